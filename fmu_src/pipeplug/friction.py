@@ -1,0 +1,113 @@
+"""The two-contact Coulomb problem, solved jointly (shared by every solver).
+
+Two bodies: the pipe (mass ``m1``) touches the fixed soil (contact 1) and the plug (mass
+``m2``, contact 2). Given "free" rates ``w1``, ``w2`` (accelerations or velocities the bodies
+would have without the undecided friction forces), find the rates ``x1``, ``x2`` and the friction
+forces ``f1`` (soil on pipe) and ``f2`` (plug on pipe), both signed along +x::
+
+    m1 x1 = m1 w1 + f1 + f2
+    m2 x2 = m2 w2 - f2
+    f1 in -c1 Sign(x1),   f2 in -c2 Sign(x1 - x2)
+
+with ``Sign(0) = [-1, 1]`` (static limit = sliding limit). ``(x1, x2)`` minimises the strictly
+convex function ``m1 (x1-w1)^2/2 + m2 (x2-w2)^2/2 + c1 |x1| + c2 |x1-x2|``, so the solution
+is unique. It is one of nine sign patterns (s1, s2) in {-1, 0, 1}^2, found by testing the
+patterns from the most stuck to the least: on a boundary the stuck pattern wins, so a load
+exactly at the friction limit does not move a body (ERRATA B4, A7).
+
+Used at the acceleration level by the exact solver (``c`` are forces, ``w`` accelerations) and at
+the velocity level by the explicit schemes (``c`` are impulses ``dt*F``, ``w`` trial velocities,
+forces returned are impulses).
+"""
+from __future__ import annotations
+
+__all__ = ["solve_two_contacts", "solve_one_contact"]
+
+# Relative slack for the consistency tests: a pattern within this of its inequality is accepted.
+_SLACK = 1e-13
+
+_PATTERNS = ((0, 0), (0, 1), (0, -1), (1, 0), (-1, 0), (1, 1), (1, -1), (-1, 1), (-1, -1))
+
+
+def solve_one_contact(m: float, w: float, c: float) -> tuple[float, float]:
+    """Coulomb projection for one body on a fixed support.
+
+    Parameters
+    ----------
+    m : float
+        Mass [kg] (only its sign-free role matters; kept for symmetry with the pair).
+    w : float
+        Free rate (acceleration [m/s^2] or trial velocity [m/s]).
+    c : float
+        Friction limit in the same units times mass (force [N] or impulse [N s]).
+
+    Returns
+    -------
+    x, f : float
+        The rate after friction and the friction (force or impulse) along +x.
+    """
+    p = m * w
+    if abs(p) <= c:
+        return 0.0, -p
+    f = -c if p > 0.0 else c
+    return w + f / m, f
+
+
+def solve_two_contacts(m1: float, m2: float, w1: float, w2: float,
+                       c1: float, c2: float) -> tuple[float, float, float, float, int, int]:
+    """Solve the joint two-contact Coulomb problem (see the module docstring).
+
+    Parameters
+    ----------
+    m1, m2 : float
+        Pipe and plug masses [kg], positive.
+    w1, w2 : float
+        Free rates of pipe and plug.
+    c1, c2 : float
+        Friction limits of contact 1 (soil/pipe) and 2 (pipe/plug), >= 0.
+
+    Returns
+    -------
+    x1, x2, f1, f2 : float
+        Rates after friction and friction terms on the pipe (``-f2`` acts on the plug).
+    s1, s2 : int
+        The sign pattern: ``s1 = sign(x1)``, ``s2 = sign(x1 - x2)``; 0 means stuck.
+    """
+    scale = _SLACK * (abs(m1 * w1) + abs(m2 * w2) + c1 + c2)
+    best = None
+    for s1, s2 in _PATTERNS:
+        x1, x2, f1, f2, violation = _pattern(m1, m2, w1, w2, c1, c2, s1, s2)
+        if violation <= scale:
+            return x1, x2, _clip(f1, c1), _clip(f2, c2), s1, s2
+        if best is None or violation < best[4]:
+            best = (x1, x2, f1, f2, violation, s1, s2)
+    # Unreachable in exact arithmetic (a solution always exists); never fail on round-off.
+    x1, x2, f1, f2, _, s1, s2 = best
+    return x1, x2, _clip(f1, c1), _clip(f2, c2), s1, s2
+
+
+def _pattern(m1, m2, w1, w2, c1, c2, s1, s2):
+    """Rates and forces of one sign pattern, and how far it violates its conditions [N]."""
+    if s1 == 0 and s2 == 0:
+        f2 = m2 * w2
+        f1 = -m1 * w1 - f2
+        return 0.0, 0.0, f1, f2, max(abs(f1) - c1, abs(f2) - c2)
+    if s1 == 0:
+        f2 = -c2 * s2
+        x2 = w2 - f2 / m2
+        f1 = -m1 * w1 - f2
+        return 0.0, x2, f1, f2, max(abs(f1) - c1, x2 * s2 * m2)
+    if s2 == 0:
+        f1 = -c1 * s1
+        x = (m1 * w1 + m2 * w2 + f1) / (m1 + m2)
+        f2 = -m2 * (x - w2)
+        return x, x, f1, f2, max(-x * s1 * (m1 + m2), abs(f2) - c2)
+    f1, f2 = -c1 * s1, -c2 * s2
+    x1 = w1 + (f1 + f2) / m1
+    x2 = w2 - f2 / m2
+    return x1, x2, f1, f2, max(-x1 * s1 * m1, -(x1 - x2) * s2 * min(m1, m2))
+
+
+def _clip(f: float, c: float) -> float:
+    """Clip a static reaction to its limit (it may exceed it by round-off only)."""
+    return c if f > c else (-c if f < -c else f)

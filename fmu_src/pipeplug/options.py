@@ -1,0 +1,59 @@
+"""The closed table of model options.
+
+Every option has a fixed set of allowed values and a default. An unknown option or value is
+an error that names the allowed ones (like PyBaMM's options). The options are read once, when a
+model is built; they choose which submodels exist, never a branch in a time loop.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Mapping
+
+from .params import ParameterError
+
+__all__ = ["OPTIONS", "Options"]
+
+#: option name -> (allowed values, default, meaning)
+OPTIONS: dict[str, tuple[tuple, object, str]] = {
+    "solver": (("exact", "fd"), "exact",
+               "rigid models: event-driven exact solver, or the paper's explicit scheme"),
+    "contact_growth": ((False, True), False,
+                       "model II: outer friction over the penetrated length min(max(s,0),L1)"),
+    "elastic": ((False, True), False, "model III: pipe and plug are elastic rods"),
+}
+
+
+@dataclass(frozen=True)
+class Options:
+    """A validated choice of options (see :data:`OPTIONS`)."""
+
+    solver: str = "exact"
+    contact_growth: bool = False
+    elastic: bool = False
+
+    @classmethod
+    def from_mapping(cls, given: Mapping[str, object] | None = None) -> "Options":
+        """Validate ``given`` against the table and fill in defaults.
+
+        Raises
+        ------
+        ParameterError
+            For an unknown option (naming the known ones) or a value outside the allowed set.
+        """
+        given = dict(given or {})
+        for key, value in given.items():
+            if key not in OPTIONS:
+                raise ParameterError(key, value, "an option among " + ", ".join(OPTIONS))
+            allowed = OPTIONS[key][0]
+            if not any(value is a or (type(value) is type(a) and value == a) for a in allowed):
+                raise ParameterError(key, value, "one of " + ", ".join(map(repr, allowed)))
+        return cls(**{k: given.get(k, spec[1]) for k, spec in OPTIONS.items()})
+
+    def active_groups(self) -> frozenset[str]:
+        """Which conditional parameter groups these options make active."""
+        groups = set()
+        if self.elastic:
+            groups.add("elastic")
+        elif self.solver == "fd":
+            groups.add("fd")
+        return frozenset(groups)

@@ -1,0 +1,219 @@
+"""Physical and numerical parameters of PipePlug: names, SI units, defaults, ranges.
+
+This is the one place where defaults live. The FMU's start values, the harness and the
+tests all read them from :data:`PARAMETERS`.
+
+Derived quantities (paper, section 1, with ERRATA A6: P1 outer, P2 inner)::
+
+    P1 = 2 pi (R1 + h1)            outer perimeter of the pipe        [m]
+    P2 = 2 pi R1                   inner perimeter of the pipe        [m]
+    S1 = pi ((R1 + h1)^2 - R1^2)   wall cross-section                 [m^2]
+    S2 = pi R1^2                   plug cross-section                 [m^2]
+    M1 = rho1 S1 L1                pipe mass                          [kg]
+    M2 = rho2 S2 L2                plug mass                          [kg]
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields, make_dataclass, replace
+
+__all__ = ["ParameterError", "Parameter", "PARAMETERS", "Params"]
+
+
+class ParameterError(ValueError):
+    """A parameter or option has a value outside its allowed set.
+
+    Parameters
+    ----------
+    name : str
+        The variable's name, as in the FMU contract.
+    value : object
+        The offending value.
+    allowed : str
+        The allowed range or set, in words (e.g. ``"> 0"``).
+    """
+
+    def __init__(self, name: str, value: object, allowed: str):
+        self.name, self.value, self.allowed = name, value, allowed
+        super().__init__(f"{name} = {value!r} is not allowed; allowed: {allowed}")
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """One row of the parameter table.
+
+    ``lower``/``upper`` are inclusive unless ``strict_lower`` is set; ``upper_of`` names another
+    parameter bounding this one from above (``L2 <= L1``).
+    """
+
+    name: str
+    unit: str
+    default: float
+    description: str
+    lower: float | None = None
+    strict_lower: bool = False
+    upper: float | None = None
+    upper_of: str | None = None
+    active_with: str | None = None
+
+    def allowed(self) -> str:
+        """The allowed range in words, as logged on a refusal."""
+        parts = []
+        if self.lower is not None:
+            parts.append(f"{'>' if self.strict_lower else '>='} {self.lower:g}")
+        if self.upper is not None:
+            parts.append(f"<= {self.upper:g}")
+        if self.upper_of is not None:
+            parts.append(f"<= {self.upper_of}")
+        return "finite, " + " and ".join(parts) if parts else "finite"
+
+
+PARAMETERS: tuple[Parameter, ...] = (
+    Parameter("L1", "m", 1.0, "pipe length (friction length of model I)", 0.0, True),
+    Parameter("L2", "m", 1.0, "plug length; 0 = no plug; the plug fills the pipe's front part", 0.0,
+              upper_of="L1"),
+    Parameter("R1", "m", 0.035, "pipe inner radius", 0.0, True),
+    Parameter("h1", "m", 0.003, "pipe wall thickness", 0.0, True),
+    Parameter("rho1", "kg/m3", 7800.0, "pipe density", 0.0, True),
+    Parameter("rho2", "kg/m3", 1800.0, "plug density", 0.0, True),
+    Parameter("E1", "Pa", 1.95e11, "pipe Young's modulus (elastic model)", 0.0, True,
+              active_with="elastic"),
+    Parameter("E2", "Pa", 6.0e8, "plug Young's modulus (elastic model)", 0.0, True,
+              active_with="elastic"),
+    Parameter("tau1", "Pa", 0.0, "limit shear stress, pipe outer face / soil", 0.0),
+    Parameter("tau2", "Pa", 1.0e4, "limit shear stress, pipe inner face / plug", 0.0),
+    Parameter("dt", "s", 2.0e-4, "largest internal step of the fd solver", 0.0, True,
+              active_with="fd"),
+    Parameter("dx", "m", 0.01, "elastic grid spacing; L1 and L2 must be multiples of it", 0.0,
+              True, upper_of="L1/2", active_with="elastic"),
+    Parameter("courant", "1", 1.0, "elastic: internal step = courant*dx/(fastest wave speed)",
+              0.0, True, upper=1.0, active_with="elastic"),
+    Parameter("x_monitor", "m", 0.5, "elastic: reference section whose motion is output", 0.0,
+              upper_of="L1", active_with="elastic"),
+)
+
+_BY_NAME = {p.name: p for p in PARAMETERS}
+
+
+class _Derived:
+    """Quantities derived from the parameter values (mixed into :class:`Params`)."""
+
+    @classmethod
+    def names(cls) -> tuple[str, ...]:
+        """The parameter names in table order."""
+        return tuple(f.name for f in fields(cls))
+
+    def with_(self, **changes: float) -> "Params":
+        """A copy with some values changed (unknown names raise :class:`ParameterError`)."""
+        for key in changes:
+            if key not in _BY_NAME:
+                raise ParameterError(key, changes[key], "one of " + ", ".join(self.names()))
+        return replace(self, **changes)
+
+    def validate(self, active: frozenset[str] = frozenset()) -> "Params":
+        """Check every active parameter against its range.
+
+        Parameters
+        ----------
+        active : frozenset of str
+            Which conditional groups are active: ``"elastic"``, ``"fd"``. Parameters tied to
+            an inactive group are not checked (the contract's rule).
+
+        Returns
+        -------
+        Params
+            ``self``, for chaining.
+
+        Raises
+        ------
+        ParameterError
+            Naming the first offending parameter, its value and the allowed range.
+        """
+        for p in PARAMETERS:
+            if p.active_with is not None and p.active_with not in active:
+                continue
+            value = getattr(self, p.name)
+            if not _within(p, value, self):
+                raise ParameterError(p.name, value, p.allowed())
+        return self
+
+    # Derived quantities ------------------------------------------------------------
+    @property
+    def P1(self) -> float:
+        """Outer perimeter of the pipe [m]."""
+        return 2.0 * math.pi * (self.R1 + self.h1)
+
+    @property
+    def P2(self) -> float:
+        """Inner perimeter of the pipe [m]."""
+        return 2.0 * math.pi * self.R1
+
+    @property
+    def S1(self) -> float:
+        """Cross-section of the pipe wall [m^2]."""
+        return math.pi * ((self.R1 + self.h1) ** 2 - self.R1 ** 2)
+
+    @property
+    def S2(self) -> float:
+        """Cross-section of the plug [m^2]."""
+        return math.pi * self.R1 ** 2
+
+    @property
+    def M1(self) -> float:
+        """Pipe mass [kg]."""
+        return self.rho1 * self.S1 * self.L1
+
+    @property
+    def M2(self) -> float:
+        """Plug mass [kg]."""
+        return self.rho2 * self.S2 * self.L2
+
+    @property
+    def F1(self) -> float:
+        """Outer friction limit over the whole pipe length, P1 L1 tau1 [N]."""
+        return self.P1 * self.L1 * self.tau1
+
+    @property
+    def F2(self) -> float:
+        """Inner (plug) friction limit, P2 L2 tau2 [N]."""
+        return self.P2 * self.L2 * self.tau2
+
+    @property
+    def has_plug(self) -> bool:
+        """True when the plug is coupled to the pipe (tau2 > 0 and L2 > 0)."""
+        return self.tau2 > 0.0 and self.L2 > 0.0
+
+    @property
+    def c1(self) -> float:
+        """Rod wave speed of the pipe, sqrt(E1/rho1) [m/s]."""
+        return math.sqrt(self.E1 / self.rho1)
+
+    @property
+    def c2(self) -> float:
+        """Rod wave speed of the plug, sqrt(E2/rho2) [m/s]."""
+        return math.sqrt(self.E2 / self.rho2)
+
+
+Params = make_dataclass(
+    "Params", [(p.name, float, p.default) for p in PARAMETERS], bases=(_Derived,), frozen=True)
+Params.__doc__ = """Parameter values in SI units; defaults are the paper's base case.
+
+Fields are the names of :data:`PARAMETERS` (one place for units, defaults and ranges).
+Construct with keywords; :meth:`validate` checks the ranges.
+"""
+Params.__module__ = __name__
+
+
+def _within(p: Parameter, value: float, params: Params) -> bool:
+    """True when ``value`` is finite and inside the range of ``p``."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        return False
+    if p.lower is not None and (value <= p.lower if p.strict_lower else value < p.lower):
+        return False
+    if p.upper is not None and value > p.upper:
+        return False
+    if p.upper_of is not None:
+        bound = params.L1 / 2.0 if p.upper_of == "L1/2" else getattr(params, p.upper_of)
+        if value > bound:
+            return False
+    return True

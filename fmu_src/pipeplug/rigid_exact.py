@@ -1,0 +1,176 @@
+"""Exact event-driven solver of the rigid models I and II (to round-off).
+
+Equations (paper eqs. (1)-(3) and (11), ERRATA A6, B4, C7/C8)::
+
+    M1 U1'' = Q + f1 + f2,      M2 U2'' = -f2
+    f1 in -P1 Lc tau1 Sign(U1'),   f2 in -P2 L2 tau2 Sign(U1' - U2')
+
+with ``Lc = L1`` (model I) or ``Lc = min(max(U1, 0), L1)`` (model II, ``contact_growth``), and
+Sign(0) = [-1, 1] (static limit = sliding limit). Q is constant over each step. Between events
+the motion is closed-form (:mod:`pipeplug.rigid_piece`); at each event the contact modes are
+chosen by solving both contacts jointly (:func:`pipeplug.friction.solve_two_contacts`).
+Exact solution for a rectangular pulse: the closed form of model I, domains I-V.
+
+Energy: W_input = kinetic energy + W_friction holds to round-off.
+"""
+from __future__ import annotations
+
+import math
+
+from .friction import solve_one_contact, solve_two_contacts
+from .model import Outputs
+from .outer_contact import outer_contact_for
+from .rigid_piece import AtRest, BothSlide, PlugSlides, Together
+
+__all__ = ["RigidExact"]
+
+_MAX_EVENTS_PER_STEP = 100_000
+_STATE_KEYS = ("time", "t0", "U1", "V1", "U2", "V2", "W_in", "W_fr", "Q", "kick", "horizon")
+
+
+class RigidExact:
+    """Rigid pipe (and plug), exact stepping. See the module docstring.
+
+    Parameters
+    ----------
+    params : Params
+        Validated parameters.
+    options : Options
+        ``contact_growth`` selects model II; ``solver`` must be ``"exact"``.
+    """
+
+    def __init__(self, params, options):
+        self.M1 = params.M1
+        self.coupled = params.has_plug
+        self.M2 = params.M2 if self.coupled else 0.0
+        self.F2 = params.F2 if self.coupled else 0.0
+        self.outer = outer_contact_for(params.P1, params.L1, params.tau1, options.contact_growth)
+        self._project = self._project_pair if self.coupled else self._project_alone
+        self.time = 0.0
+        self._start_piece(0.0, (0.0, 0.0, 0.0, 0.0), 0.0, 0.0, math.nan, 0)
+
+    # Stepping ---------------------------------------------------------------------------
+    def advance(self, q: float, h: float) -> None:
+        """Advance by ``h`` [s] under a constant struck-end force ``q`` [N]."""
+        t_end = self.time + h
+        if q == self._piece.Q and t_end < self._t_event and t_end <= self._searched:
+            self.time = t_end            # the common case: no event inside the step
+            return
+        if q != self._piece.Q:
+            self._restart(q)
+        for _ in range(_MAX_EVENTS_PER_STEP):
+            if t_end > self._searched:
+                self._search(max(t_end - self._piece.t0, 2.0 * self._horizon))
+            if t_end < self._t_event:
+                self.time = t_end
+                return
+            self._take_event()
+        raise RuntimeError(f"more than {_MAX_EVENTS_PER_STEP} friction events in one step")
+
+    def _restart(self, q: float) -> None:
+        """Start a new piece at the current time under a new force ``q``."""
+        U1, V1, U2, V2, W_in, W_fr = self._values_at(self.time)
+        p = self._piece
+        if p.s1 and V1 * p.s1 < 0.0:      # round-off past a stop that was not reached
+            V1 = 0.0
+        if p.s2 and (V1 - V2) * p.s2 < 0.0:
+            V2 = V1
+        self._start_piece(self.time, (U1, V1, U2, V2), W_in, W_fr, q, 0)
+
+    def _take_event(self) -> None:
+        """Move the origin to the next event, set the exact post-event values, re-decide modes."""
+        t = self._t_event
+        U1, V1, U2, V2, W_in, W_fr = self._values_at(t)
+        kick = 0
+        for label in self._labels:
+            if label == "pipe_rest":
+                V1 = 0.0
+                if self._piece.s2 == 0:
+                    V2 = 0.0
+            elif label in ("plug_rest", "stick"):
+                V2 = V1
+            elif label == "segment":
+                U2 += self._piece.end - U1
+                U1 = self._piece.end
+            else:
+                kick = 1 if label == "breakaway+" else -1
+        if not self.coupled:
+            U2 = V2 = 0.0
+        self._start_piece(t, (U1, V1, U2, V2), W_in, W_fr, self._piece.Q, kick)
+
+    def _start_piece(self, t0, origin, W_in, W_fr, q, kick, horizon=0.0) -> None:
+        self._W0 = (W_in, W_fr)
+        self._kick = kick
+        self._piece = self._make_piece(t0, origin, 0.0 if math.isnan(q) else q, kick)
+        self._piece.Q = q
+        self._search(horizon)
+
+    def _search(self, horizon: float) -> None:
+        """Look for the piece's next event up to ``horizon`` [s] after its origin."""
+        self._horizon = horizon
+        dt, self._labels = self._piece.find_event(horizon)
+        self._t_event = self._piece.t0 + dt
+        self._searched = self._piece.t0 + horizon if dt > horizon else math.inf
+
+    # Modes ------------------------------------------------------------------------------
+    def _make_piece(self, t0, origin, q, kick):
+        """Decide the contact modes at ``origin`` under ``q`` and build the piece."""
+        U1, V1, U2, V2 = origin
+        s1 = (V1 > 0.0) - (V1 < 0.0)
+        s2 = ((V1 > V2) - (V1 < V2)) if self.coupled else 0
+        c1 = self.outer.limit(U1)
+        f1_sliding = -s1 * c1 if s1 else 0.0
+        f2_sliding = -s2 * self.F2
+        w1 = (q + f1_sliding + f2_sliding) / self.M1
+        w2 = -f2_sliding / self.M2 if self.coupled else 0.0
+        p1, p2, f1s, f2s = self._project(w1, w2, 0.0 if s1 else c1, 0.0 if s2 else self.F2)
+        s1 = s1 or p1
+        s2 = s2 or kick or p2
+        origin = (U1, V1, U2, V2)
+        if s1 == 0 and s2 == 0:
+            return AtRest(t0, q, origin, f1_sliding + f1s, f2_sliding + f2s)
+        if s1 == 0:
+            return PlugSlides(t0, q, origin, s2, f1_sliding + f1s, self.F2, self.M2)
+        if s2 == 0:
+            plug_limit = self.F2 / self.M2 if self.coupled else None
+            return Together(t0, q, origin, s1, self.outer, self.M1 + self.M2, plug_limit,
+                            self.M2)
+        return BothSlide(t0, q, origin, s1, s2, self.outer, self.M1, self.F2, self.M2)
+
+    def _project_pair(self, w1, w2, c1, c2):
+        _, _, f1, f2, p1, p2 = solve_two_contacts(self.M1, self.M2, w1, w2, c1, c2)
+        return p1, p2, f1, f2
+
+    def _project_alone(self, w1, w2, c1, c2):
+        x1, f1 = solve_one_contact(self.M1, w1, c1)
+        return (x1 > 0.0) - (x1 < 0.0), 0, f1, 0.0
+
+    # Outputs and state ------------------------------------------------------------------
+    def _values_at(self, t):
+        """``(U1, V1, U2, V2, W_input, W_friction)`` at absolute time ``t`` [s]."""
+        p = self._piece
+        U1, V1, U2, V2 = p.state(t - p.t0)
+        W_in = self._W0[0] + (p.Q * (U1 - p.U1) if p.Q == p.Q else 0.0)
+        W_fr = self._W0[1] + p.friction_work(U1, U2)
+        return U1, V1, U2, V2, W_in, W_fr
+
+    def outputs(self) -> Outputs:
+        """The contract's outputs at the current time."""
+        U1, V1, U2, V2, W_in, W_fr = self._values_at(self.time)
+        f1, f2 = self._piece.forces(U1)
+        return Outputs(V1, V2, U1, U2, f1, f2, W_in, W_fr, self._piece.s1, self._piece.s2)
+
+    def get_state(self) -> dict:
+        """The whole state: the current piece's origin, its force and search horizon."""
+        p = self._piece
+        return dict(zip(_STATE_KEYS, (self.time, p.t0, p.U1, p.V1, p.U2, p.V2, *self._W0,
+                                      p.Q, self._kick, self._horizon)))
+
+    def set_state(self, state: dict) -> None:
+        """Restore a state from :meth:`get_state`; the piece is rebuilt deterministically."""
+        s = {k: state[k] for k in _STATE_KEYS}
+        self._start_piece(float(s["t0"]), (float(s["U1"]), float(s["V1"]), float(s["U2"]),
+                                           float(s["V2"])),
+                          float(s["W_in"]), float(s["W_fr"]), float(s["Q"]), int(s["kick"]),
+                          float(s["horizon"]))
+        self.time = float(s["time"])
