@@ -108,7 +108,7 @@ class _Derived:
         for key in changes:
             if key not in _BY_NAME:
                 raise ParameterError(key, changes[key], "one of " + ", ".join(self.names()))
-        return replace(self, **changes)
+        return replace(self, **{k: _as_number(v) for k, v in changes.items()})
 
     def validate(self, active: frozenset[str] = frozenset()) -> "Params":
         """Check every active parameter against its range.
@@ -202,6 +202,16 @@ Fields are the names of :data:`PARAMETERS` (one place for units, defaults and ra
 Construct with keywords; :meth:`validate` checks the ranges.
 """
 Params.__module__ = __name__
+
+
+def _as_number(value):
+    """A plain ``float`` for real numbers (numpy scalars included); anything else unchanged."""
+    if isinstance(value, (bool, str)):
+        return value
+    try:
+        return float(value)
+    except (TypeError, ValueError):
+        return value
 
 
 def _within(p: Parameter, value: float, params: Params) -> bool:

@@ -52,7 +52,8 @@ class RigidExact:
     # Stepping ---------------------------------------------------------------------------
     def advance(self, q: float, h: float) -> None:
         """Advance by ``h`` [s] under a constant struck-end force ``q`` [N]."""
-        t_end = self.time + h
+        q = float(q)
+        t_end = self.time + float(h)
         if q == self._piece.Q and t_end < self._t_event and t_end <= self._searched:
             self.time = t_end            # the common case: no event inside the step
             return

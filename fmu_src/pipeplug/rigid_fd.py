@@ -56,6 +56,7 @@ class RigidFd:
 
     def advance(self, q: float, h: float) -> None:
         """Advance by ``h`` [s] under a constant struck-end force ``q`` [N]."""
+        q, h = float(q), float(h)
         n = internal_steps(h, self.dt_max)
         tau = h / n
         s = self._s
