@@ -19,6 +19,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 __all__ = ["Motion", "refine_root"]
 
 _INF = math.inf
@@ -45,19 +47,23 @@ class Motion:
         self.U0, self.V0, self.a0, self.k = U0, V0, a0, k
         self._w = math.sqrt(abs(k))
 
-    def _basis(self, t: float) -> tuple[float, float, float]:
-        """(S, C, S') at time ``t`` [s]."""
+    def _basis(self, t):
+        """(S, C, S') at time ``t`` [s] (a float, or a numpy array for dense output)."""
         k, w = self.k, self._w
         if k == 0.0:
             return t, 0.5 * t * t, 1.0
+        fn = math if isinstance(t, float) else np
         if k > 0.0:
-            half = math.sin(0.5 * w * t)
-            return math.sin(w * t) / w, 2.0 * half * half / k, math.cos(w * t)
-        half = math.sinh(0.5 * w * t)
-        return math.sinh(w * t) / w, -2.0 * half * half / k, math.cosh(w * t)
+            half = fn.sin(0.5 * w * t)
+            return fn.sin(w * t) / w, 2.0 * half * half / k, fn.cos(w * t)
+        half = fn.sinh(0.5 * w * t)
+        return fn.sinh(w * t) / w, -2.0 * half * half / k, fn.cosh(w * t)
 
-    def state(self, t: float) -> tuple[float, float]:
-        """Position [m] and velocity [m/s] at time ``t`` [s] after the piece start."""
+    def state(self, t):
+        """Position [m] and velocity [m/s] at time ``t`` [s] after the piece start.
+
+        ``t`` may be a float or a numpy array (then both results are arrays).
+        """
         S, C, dS = self._basis(t)
         return self.U0 + self.V0 * S + self.a0 * C, self.V0 * dS + self.a0 * S
 

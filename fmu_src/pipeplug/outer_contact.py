@@ -16,6 +16,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 __all__ = ["NoContact", "ConstantContact", "GrowingContact", "outer_contact_for"]
 
 
@@ -31,8 +33,11 @@ class NoContact:
         return 0.0, 0.0, s1 * math.inf
 
     def work(self, Ua: float, Ub: float, s1: int) -> float:
-        """Friction work [J] dissipated sliding from ``Ua`` to ``Ub`` in direction ``s1``."""
-        return 0.0
+        """Friction work [J] dissipated sliding from ``Ua`` to ``Ub`` in direction ``s1``.
+
+        ``Ub`` may be a numpy array (dense output).
+        """
+        return 0.0 * Ub
 
 
 class ConstantContact(NoContact):
@@ -80,14 +85,13 @@ class GrowingContact(NoContact):
     def work(self, Ua: float, Ub: float, s1: int) -> float:
         return s1 * (self._potential(Ub) - self._potential(Ua))
 
-    def _potential(self, U: float) -> float:
-        """``k * integral_0^U Lc(u) du`` [J]."""
-        L1 = self.L1
-        if U <= 0.0:
-            return 0.0
-        if U <= L1:
-            return 0.5 * self.k * U * U
-        return self.k * L1 * (U - 0.5 * L1)
+    def _potential(self, U):
+        """``k * integral_0^U Lc(u) du`` [J] (float or array)."""
+        if isinstance(U, float):
+            inside, beyond = min(max(U, 0.0), self.L1), max(U - self.L1, 0.0)
+        else:
+            inside, beyond = np.clip(U, 0.0, self.L1), np.maximum(U - self.L1, 0.0)
+        return self.k * (0.5 * inside * inside + self.L1 * beyond)
 
 
 def outer_contact_for(P1: float, L1: float, tau1: float, growth: bool) -> NoContact:

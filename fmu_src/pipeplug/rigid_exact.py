@@ -17,6 +17,8 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from .friction import solve_one_contact, solve_two_contacts
 from .model import Outputs
 from .outer_contact import outer_contact_for
@@ -100,7 +102,8 @@ class RigidExact:
         self._start_piece(t, (U1, V1, U2, V2), W_in, W_fr, self._piece.Q, kick)
 
     def _start_piece(self, t0, origin, W_in, W_fr, q, kick, horizon=0.0) -> None:
-        self._W0 = (W_in, W_fr)
+        origin = tuple(map(float, origin))    # numpy scalars from dense output -> floats
+        self._W0 = (float(W_in), float(W_fr))
         self._kick = kick
         self._piece = self._make_piece(t0, origin, 0.0 if math.isnan(q) else q, kick)
         self._piece.Q = q
@@ -146,6 +149,43 @@ class RigidExact:
         x1, f1 = solve_one_contact(self.M1, w1, c1)
         return (x1 > 0.0) - (x1 < 0.0), 0, f1, 0.0
 
+    def sample(self, q: float, times) -> dict:
+        """Dense output: advance to ``times[-1]`` under a constant ``q`` [N], recording outputs.
+
+        Each piece is evaluated once for all the sample times it covers (numpy), so a long
+        record costs about as much as its events. Same values as :meth:`advance` followed by
+        :meth:`outputs` at each time.
+
+        Parameters
+        ----------
+        q : float
+            Struck-end force [N].
+        times : array of float
+            Increasing absolute times [s], all later than the current time.
+
+        Returns
+        -------
+        dict of arrays
+            One array per output name (see :class:`~pipeplug.model.Outputs`).
+        """
+        times = np.asarray(times, dtype=float)
+        columns = [[] for _ in Outputs._fields]
+        if float(q) != self._piece.Q:
+            self._restart(float(q))
+        done = 0
+        while done < len(times):
+            if times[-1] > self._searched:
+                self._search(max(float(times[-1]) - self._piece.t0, 2.0 * self._horizon))
+            upto = int(np.searchsorted(times, self._t_event, side="left"))
+            if upto > done:
+                for column, values in zip(columns, self._outputs_at(times[done:upto])):
+                    column.append(np.broadcast_to(values, (upto - done,)))
+                done = upto
+            if done < len(times):
+                self._take_event()
+        self.time = float(times[-1])
+        return {name: np.concatenate(c) for name, c in zip(Outputs._fields, columns)}
+
     # Outputs and state ------------------------------------------------------------------
     def _values_at(self, t):
         """``(U1, V1, U2, V2, W_input, W_friction)`` at absolute time ``t`` [s]."""
@@ -157,9 +197,13 @@ class RigidExact:
 
     def outputs(self) -> Outputs:
         """The contract's outputs at the current time."""
-        U1, V1, U2, V2, W_in, W_fr = self._values_at(self.time)
+        return Outputs(*self._outputs_at(self.time))
+
+    def _outputs_at(self, t):
+        """Output values at absolute time(s) ``t`` inside the current piece."""
+        U1, V1, U2, V2, W_in, W_fr = self._values_at(t)
         f1, f2 = self._piece.forces(U1)
-        return Outputs(V1, V2, U1, U2, f1, f2, W_in, W_fr, self._piece.s1, self._piece.s2)
+        return V1, V2, U1, U2, f1, f2, W_in, W_fr, self._piece.s1, self._piece.s2
 
     def get_state(self) -> dict:
         """The whole state: the current piece's origin, its force and search horizon."""

@@ -51,16 +51,18 @@ class AtRest(_Piece):
         self.f1, self.f2 = f1, f2
 
     def state(self, dt):
-        """``(U1, V1, U2, V2)`` at ``dt`` [s] after the origin."""
-        return self.U1, 0.0, self.U2, 0.0
+        """``(U1, V1, U2, V2)`` at ``dt`` [s] after the origin (float or array)."""
+        zero = 0.0 * dt
+        return self.U1 + zero, zero, self.U2 + zero, zero
 
     def forces(self, U1):
         """Friction forces on the pipe ``(f1, f2)`` [N] when the pipe is at ``U1``."""
-        return self.f1, self.f2
+        zero = 0.0 * U1
+        return self.f1 + zero, self.f2 + zero
 
     def friction_work(self, U1, U2):
         """Friction work [J] since the origin, with the bodies at ``U1``, ``U2``."""
-        return 0.0
+        return 0.0 * U1
 
 
 class PlugSlides(_Piece):
@@ -73,10 +75,12 @@ class PlugSlides(_Piece):
 
     def state(self, dt):
         U2, V2 = self.plug.state(dt)
-        return self.U1, 0.0, U2, V2
+        zero = 0.0 * dt
+        return self.U1 + zero, zero, U2, V2
 
     def forces(self, U1):
-        return self.f1, -self.s2 * self.F2
+        zero = 0.0 * U1
+        return self.f1 + zero, -self.s2 * self.F2 + zero
 
     def friction_work(self, U1, U2):
         return self.F2 * self.s2 * (self.U2 - U2)
@@ -101,13 +105,13 @@ class Together(_Piece):
     def state(self, dt):
         U1, V1 = self.body.state(dt)
         if self.plug_limit is None:
-            return U1, V1, 0.0, 0.0
+            return U1, V1, 0.0 * U1, 0.0 * U1
         return U1, V1, self.U2 + (U1 - self.U1), V1
 
     def forces(self, U1):
         f1 = self.force0 - self.kappa * U1
         if self.plug_limit is None:
-            return f1, 0.0
+            return f1, 0.0 * U1
         return f1, -self.M2 * self.body.acceleration_at(U1)
 
     def friction_work(self, U1, U2):
@@ -145,7 +149,7 @@ class BothSlide(_Piece):
         return U1, V1, U2, V2
 
     def forces(self, U1):
-        return self.force0 - self.kappa * U1, -self.s2 * self.F2
+        return self.force0 - self.kappa * U1, -self.s2 * self.F2 + 0.0 * U1
 
     def friction_work(self, U1, U2):
         outer = self.outer.work(self.U1, U1, self.s1)
