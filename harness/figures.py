@@ -35,10 +35,10 @@ def _label(case: cf.Case) -> str:
     return f"τ1={case.tau1 / MPA:.4g}, τ2={case.tau2 / MPA:.4g} MPa"
 
 
-def _rigid_run(case: cf.Case, options: dict, step: float = 5e-4, stop: float = 0.3) -> np.ndarray:
+def _rigid_run(fmu, case: cf.Case, options: dict, step: float = 5e-4, stop: float = 0.3):
     params = {"tau1": case.tau1, "tau2": case.tau2, **options}
     return run_fmu(Run(params=params, pulses=[Pulse(0.0, case.t0, case.Q0)], step=step,
-                       stop_time=stop))
+                       stop_time=stop), fmu)
 
 
 def _levels(fig: str) -> dict[str, float]:
@@ -50,15 +50,15 @@ def _levels(fig: str) -> dict[str, float]:
             "6a": {"U*": u_pipe, "U** (α=1)": u2(1)}}.get(fig, {})
 
 
-def _draw_rigid(ax, fig: str, cases: list[cf.Case], growth: bool) -> None:
+def _draw_rigid(ax, fig: str, cases: list[cf.Case], growth: bool, fmu) -> None:
     colors = [f"C{i}" for i in range(10)]
     for i, case in enumerate(cases):
-        res = _rigid_run(case, {"contact_growth": growth})
+        res = _rigid_run(fmu, case, {"contact_growth": growth})
         t = res["time"] * 1e3
         ax.plot(t, res["v_pipe"], "-", color=colors[i], lw=1.6, label=f"{i + 1}: {_label(case)}")
         ax.plot(t, res["v_plug"], "-.", color=colors[i], lw=1.3)
         if growth:
-            ref = _rigid_run(case, {"contact_growth": True}, step=5e-5)
+            ref = _rigid_run(fmu, case, {"contact_growth": True}, step=5e-5)
             ax.plot(ref["time"] * 1e3, ref["v_pipe"], ":", color="k", lw=0.8)
             ax.plot(ref["time"] * 1e3, ref["v_plug"], ":", color="k", lw=0.8)
             _mark_mode_changes(ax, ref, colors[i])
@@ -96,12 +96,12 @@ RIGID = {
 }
 
 
-def draw_rigid_figure(fig: str, out: Path) -> Path:
+def draw_rigid_figure(fig: str, out: Path, fmu=DEFAULT_FMU) -> Path:
     """Draw one of the rigid-model figures; returns the PNG path."""
     import matplotlib.pyplot as plt
     title, make_cases, growth = RIGID[fig]
     f, ax = plt.subplots(figsize=(8, 5))
-    _draw_rigid(ax, fig, make_cases(), growth)
+    _draw_rigid(ax, fig, make_cases(), growth, fmu)
     ax.set(xlabel="t [ms]", ylabel="velocity [m/s]", xlim=(0, 300), title=title)
     ref = "exact solver, 10x finer step" if growth else "closed form"
     ax.plot([], [], "k-", label="pipe (FMU)")
@@ -117,14 +117,14 @@ def draw_rigid_figure(fig: str, out: Path) -> Path:
     return path
 
 
-def draw_fig7(out: Path) -> Path:
+def draw_fig7(out: Path, fmu=DEFAULT_FMU) -> Path:
     """Fig. 7: pipe velocity at x = L1/2, elastic model III vs rigid model I (ERRATA D1)."""
     import matplotlib.pyplot as plt
     case = replace(BASE, tau1=0.0, tau2=1e4)
     pulses = [Pulse(0.0, case.t0, case.Q0)]
     elastic = run_fmu(Run(params={"tau1": 0.0, "tau2": 1e4, "elastic": True, "dx": 0.01,
                                   "courant": 1.0, "x_monitor": 0.5, "E1": 1.95e11,
-                                  "E2": 6.0e8}, pulses=pulses, step=2e-5, stop_time=0.08))
+                                  "E2": 6.0e8}, pulses=pulses, step=2e-5, stop_time=0.08), fmu)
     t = elastic["time"]
     rigid = cf.solution(case, t)
     peak_e, peak_r = elastic["v_pipe"].max(), rigid["V1"].max()
@@ -152,6 +152,6 @@ def main(args: argparse.Namespace) -> int:
     out.mkdir(parents=True, exist_ok=True)
     wanted = args.only or [*RIGID, "7"]
     for fig in wanted:
-        path = draw_fig7(out) if fig == "7" else draw_rigid_figure(fig, out)
+        path = draw_fig7(out, args.fmu) if fig == "7" else draw_rigid_figure(fig, out, args.fmu)
         print(f"wrote {path}", flush=True)
     return 0
