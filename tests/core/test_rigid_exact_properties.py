@@ -164,3 +164,36 @@ def test_pulse_train_next_blow_arrives_while_moving():
         m.advance(Q0, 0.01)
         m.advance(0.0, 0.005)
     assert m.outputs().v_pipe == pytest.approx(3 * Q0 * 0.01 / Params().M1, rel=1e-14)
+
+
+def _run_velocities(tau1, tau2, t_end=0.4, n=400):
+    m = build_model({"tau1": tau1, "tau2": tau2})
+    first = m.sample(Q0, np.linspace(T0 / 50, T0, 50))
+    rest = m.sample(0.0, np.linspace(T0 + (t_end - T0) / n, t_end, n))
+    return (np.concatenate([first["v_pipe"], rest["v_pipe"]]),
+            np.concatenate([first["v_plug"], rest["v_plug"]]))
+
+
+@pytest.mark.parametrize("tau2", [0.01e6, 0.02e6, 0.03e6, 0.05e6, 0.0589e6])
+def test_fig5_all_curves_reach_the_common_level_u_star(tau2):
+    # ERRATA C4: with tau1 = 0 pipe and plug end at Q0 t0 / (M1 + M2) = 93.54 m/s.
+    v1, v2 = _run_velocities(0.0, tau2)
+    assert v1[-1] == pytest.approx(93.54, abs=0.005) and v2[-1] == pytest.approx(v1[-1])
+
+
+@pytest.mark.parametrize("ratio, level, taus", [(2.0, 42.07, [0.02e6, 0.053e6]),
+                                                (1.0, 58.04, [0.005e6, 0.014e6, 0.028e6])])
+def test_fig4_and_fig6a_velocities_level_at_u_double_star(ratio, level, taus):
+    # ERRATA C4: when the relative velocity first vanishes (t1 = tau* t0 / (tau1 + gamma
+    # tau2), section 1), both bodies move at U** whatever tau1 = alpha tau2 is.
+    p = Params()
+    gamma = p.P2 / p.P1 * (1 + p.M1 / p.M2)
+    for tau1 in taus:
+        tau2 = tau1 / ratio
+        t1 = TAU_STAR * T0 / (tau1 + gamma * tau2)
+        m = build_model({"tau1": tau1, "tau2": tau2})
+        m.advance(Q0, T0)
+        m.advance(0.0, t1 - T0)
+        o = m.outputs()
+        assert o.v_pipe == pytest.approx(level, abs=0.005)
+        assert o.v_plug == pytest.approx(o.v_pipe, abs=1e-9 * level)
