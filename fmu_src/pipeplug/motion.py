@@ -121,23 +121,27 @@ def _first_quadratic_root(a: float, b: float, c: float, t_max: float) -> float:
 def refine_root(g, dg, a: float, b: float) -> float:
     """The root of ``g`` in a bracket [a, b] where ``g(a)`` and ``g(b)`` differ in sign.
 
-    Safeguarded Newton: a Newton step from the better end when it stays inside the bracket,
-    bisection otherwise, until the bracket is a few ulps wide. Returns a time in (a, b].
+    Safeguarded Newton: a Newton step from the latest iterate when it stays inside the
+    bracket, bisection otherwise; the bracket shrinks with every evaluation. Stops when the
+    update or the bracket is a few ulps wide. Returns a time in (a, b].
     """
-    ga = g(a)
+    ga, gb = g(a), g(b)
+    if gb == 0.0:
+        return b
+    t, gt = (b, gb) if abs(gb) < abs(ga) else (a, ga)
     for _ in range(200):
-        t = b if abs(g(b)) < abs(ga) else a
         d = dg(t)
-        step = t - g(t) / d if d != 0.0 else 0.5 * (a + b)
-        if not a < step < b:
-            step = 0.5 * (a + b)
-        gs = g(step)
-        if gs == 0.0:
-            return step
-        if (gs > 0.0) == (ga > 0.0):
-            a, ga = step, gs
+        new = t - gt / d if d != 0.0 else 0.5 * (a + b)
+        if not a < new < b:
+            new = 0.5 * (a + b)
+        g_new = g(new)
+        if g_new == 0.0:
+            return new
+        if (g_new > 0.0) == (ga > 0.0):
+            a, ga = new, g_new
         else:
-            b = step
-        if b - a <= 4.0 * math.ulp(b):
+            b, gb = new, g_new
+        if abs(new - t) <= 4.0 * math.ulp(new) or b - a <= 4.0 * math.ulp(b):
             return b
+        t, gt = new, g_new
     return b

@@ -20,7 +20,7 @@ import math
 import numpy as np
 
 from .friction import solve_one_contact, solve_two_contacts
-from .model import Outputs
+from .model import OUTPUT_NAMES, Outputs
 from .outer_contact import outer_contact_for
 from .rigid_piece import AtRest, BothSlide, PlugSlides, Together
 
@@ -99,7 +99,9 @@ class RigidExact:
                 kick = 1 if label == "breakaway+" else -1
         if not self.coupled:
             U2 = V2 = 0.0
-        self._start_piece(t, (U1, V1, U2, V2), W_in, W_fr, self._piece.Q, kick)
+        searched_to = self._piece.t0 + self._horizon
+        self._start_piece(t, (U1, V1, U2, V2), W_in, W_fr, self._piece.Q, kick,
+                          max(searched_to - t, 0.0))
 
     def _start_piece(self, t0, origin, W_in, W_fr, q, kick, horizon=0.0) -> None:
         origin = tuple(map(float, origin))    # numpy scalars from dense output -> floats
@@ -149,7 +151,7 @@ class RigidExact:
         x1, f1 = solve_one_contact(self.M1, w1, c1)
         return (x1 > 0.0) - (x1 < 0.0), 0, f1, 0.0
 
-    def sample(self, q: float, times) -> dict:
+    def sample(self, q: float, times, names=OUTPUT_NAMES) -> dict:
         """Dense output: advance to ``times[-1]`` under a constant ``q`` [N], recording outputs.
 
         Each piece is evaluated once for all the sample times it covers (numpy), so a long
@@ -162,29 +164,34 @@ class RigidExact:
             Struck-end force [N].
         times : array of float
             Increasing absolute times [s], all later than the current time.
+        names : sequence of str, optional
+            The outputs to record (default: all of :class:`~pipeplug.model.Outputs`).
 
         Returns
         -------
         dict of arrays
-            One array per output name (see :class:`~pipeplug.model.Outputs`).
+            One array per requested output name.
         """
         times = np.asarray(times, dtype=float)
-        columns = [[] for _ in Outputs._fields]
-        if float(q) != self._piece.Q:
-            self._restart(float(q))
-        done = 0
+        rows = [OUTPUT_NAMES.index(name) for name in names]
+        table = np.empty((len(rows), len(times)))
+        q = float(q)
+        if q != self._piece.Q:
+            self._restart(q)
+        t_last, done = float(times[-1]), 0
         while done < len(times):
-            if times[-1] > self._searched:
-                self._search(max(float(times[-1]) - self._piece.t0, 2.0 * self._horizon))
+            if t_last > self._searched:
+                self._search(max(t_last - self._piece.t0, 2.0 * self._horizon))
             upto = int(np.searchsorted(times, self._t_event, side="left"))
             if upto > done:
-                for column, values in zip(columns, self._outputs_at(times[done:upto])):
-                    column.append(np.broadcast_to(values, (upto - done,)))
+                values = self._outputs_at(times[done:upto])
+                for i, row in enumerate(rows):
+                    table[i, done:upto] = values[row]
                 done = upto
             if done < len(times):
                 self._take_event()
-        self.time = float(times[-1])
-        return {name: np.concatenate(c) for name, c in zip(Outputs._fields, columns)}
+        self.time = t_last
+        return dict(zip(names, table))
 
     # Outputs and state ------------------------------------------------------------------
     def _values_at(self, t):
