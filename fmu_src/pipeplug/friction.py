@@ -29,7 +29,7 @@ _SLACK = 1e-13
 _PATTERNS = ((0, 0), (0, 1), (0, -1), (1, 0), (-1, 0), (1, 1), (1, -1), (-1, 1), (-1, -1))
 
 
-def solve_one_contact(m: float, w: float, c: float) -> tuple[float, float]:
+def solve_one_contact(m: float, w: float, c: float, slack: float = 0.0) -> tuple[float, float]:
     """Coulomb projection for one body on a fixed support.
 
     Parameters
@@ -40,6 +40,8 @@ def solve_one_contact(m: float, w: float, c: float) -> tuple[float, float]:
         Free rate (acceleration [m/s^2] or trial velocity [m/s]).
     c : float
         Friction limit in the same units times mass (force [N] or impulse [N s]).
+    slack : float, optional
+        Round-off allowance in the units of ``c``: a load within it of the limit sticks.
 
     Returns
     -------
@@ -47,14 +49,14 @@ def solve_one_contact(m: float, w: float, c: float) -> tuple[float, float]:
         The rate after friction and the friction (force or impulse) along +x.
     """
     p = m * w
-    if abs(p) <= c:
-        return 0.0, -p
+    if abs(p) <= c + slack:
+        return 0.0, _clip(-p, c)
     f = -c if p > 0.0 else c
     return w + f / m, f
 
 
-def solve_two_contacts(m1: float, m2: float, w1: float, w2: float,
-                       c1: float, c2: float) -> tuple[float, float, float, float, int, int]:
+def solve_two_contacts(m1: float, m2: float, w1: float, w2: float, c1: float, c2: float,
+                       slack: float = 0.0) -> tuple[float, float, float, float, int, int]:
     """Solve the joint two-contact Coulomb problem (see the module docstring).
 
     Parameters
@@ -65,6 +67,9 @@ def solve_two_contacts(m1: float, m2: float, w1: float, w2: float,
         Free rates of pipe and plug.
     c1, c2 : float
         Friction limits of contact 1 (soil/pipe) and 2 (pipe/plug), >= 0.
+    slack : float, optional
+        Round-off allowance in the units of ``c`` (at least a 1e-13 share of the problem's
+        own scale is always allowed).
 
     Returns
     -------
@@ -73,7 +78,7 @@ def solve_two_contacts(m1: float, m2: float, w1: float, w2: float,
     s1, s2 : int
         The sign pattern: ``s1 = sign(x1)``, ``s2 = sign(x1 - x2)``; 0 means stuck.
     """
-    scale = _SLACK * (abs(m1 * w1) + abs(m2 * w2) + c1 + c2)
+    scale = max(_SLACK * (abs(m1 * w1) + abs(m2 * w2) + c1 + c2), slack)
     best = None
     for s1, s2 in _PATTERNS:
         x1, x2, f1, f2, violation = _pattern(m1, m2, w1, w2, c1, c2, s1, s2)

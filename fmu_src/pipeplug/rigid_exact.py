@@ -27,6 +27,7 @@ from .rigid_piece import AtRest, BothSlide, PlugSlides, Together
 __all__ = ["RigidExact"]
 
 _MAX_EVENTS_PER_STEP = 100_000
+_EVENT_SNAP = 1e-13          # relative: an event this close after a step end is taken in it
 _STATE_KEYS = ("time", "t0", "U1", "V1", "U2", "V2", "W_in", "W_fr", "Q", "kick", "horizon")
 
 
@@ -56,7 +57,7 @@ class RigidExact:
         """Advance by ``h`` [s] under a constant struck-end force ``q`` [N]."""
         q = float(q)
         t_end = self.time + float(h)
-        if q == self._piece.Q and t_end < self._t_event and t_end <= self._searched:
+        if q == self._piece.Q and t_end < self._t_snap and t_end <= self._searched:
             self.time = t_end            # the common case: no event inside the step
             return
         if q != self._piece.Q:
@@ -64,7 +65,7 @@ class RigidExact:
         for _ in range(_MAX_EVENTS_PER_STEP):
             if t_end > self._searched:
                 self._search(max(t_end - self._piece.t0, 2.0 * self._horizon))
-            if t_end < self._t_event:
+            if t_end < self._t_snap:
                 self.time = t_end
                 return
             self._take_event()
@@ -116,6 +117,10 @@ class RigidExact:
         self._horizon = horizon
         dt, self._labels = self._piece.find_event(horizon)
         self._t_event = self._piece.t0 + dt
+        # A step ending within round-off of an event takes it: otherwise a grazing stop
+        # (velocity and acceleration vanishing together) would leave a velocity of 1e-14 m/s
+        # that a load at the friction limit never removes.
+        self._t_snap = self._t_event - _EVENT_SNAP * self._t_event if dt < math.inf else math.inf
         self._searched = self._piece.t0 + horizon if dt > horizon else math.inf
 
     # Modes ------------------------------------------------------------------------------
@@ -182,7 +187,7 @@ class RigidExact:
         while done < len(times):
             if t_last > self._searched:
                 self._search(max(t_last - self._piece.t0, 2.0 * self._horizon))
-            upto = int(np.searchsorted(times, self._t_event, side="left"))
+            upto = int(np.searchsorted(times, self._t_snap, side="left"))
             if upto > done:
                 values = self._outputs_at(times[done:upto])
                 for i, row in enumerate(rows):

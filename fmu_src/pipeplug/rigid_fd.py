@@ -26,7 +26,11 @@ from .outer_contact import outer_contact_for
 
 __all__ = ["RigidFd", "internal_steps"]
 
-_STATE_KEYS = ("time", "U1", "V1", "U2", "V2", "W_in", "W_fr", "f1", "f2", "s1", "s2")
+_STATE_KEYS = ("time", "U1", "V1", "U2", "V2", "W_in", "W_fr", "f1", "f2", "s1", "s2", "p_max")
+# Velocities carry round-off of the largest momentum the run has seen: a trial momentum within
+# this share of it from a friction limit sticks (else a body whose load equals its limit
+# slides on forever at 1e-13 m/s after a grazing stop).
+_ROUND_OFF = 1e-12
 
 
 def internal_steps(h: float, h_max: float) -> int:
@@ -69,18 +73,20 @@ class RigidFd:
         """One step of pipe and plug."""
         c1 = tau * self.outer.limit(s["U1"])
         v1, v2, p1, p2, s1, s2 = solve_two_contacts(
-            self.M1, self.M2, s["V1"] + tau * q / self.M1, s["V2"], c1, tau * self.F2)
+            self.M1, self.M2, s["V1"] + tau * q / self.M1, s["V2"], c1, tau * self.F2,
+            _ROUND_OFF * s["p_max"])
         self._commit(s, q, tau, v1, v2, p1, p2, s1, s2)
 
     def _step_alone(self, s: dict, q: float, tau: float) -> None:
         """One step of the pipe without a plug."""
         c1 = tau * self.outer.limit(s["U1"])
-        v1, p1 = solve_one_contact(self.M1, s["V1"] + tau * q / self.M1, c1)
+        v1, p1 = solve_one_contact(self.M1, s["V1"] + tau * q / self.M1, c1,
+                                   _ROUND_OFF * s["p_max"])
         self._commit(s, q, tau, v1, 0.0, p1, 0.0, (v1 > 0.0) - (v1 < 0.0), 0)
 
-    @staticmethod
-    def _commit(s, q, tau, v1, v2, p1, p2, s1, s2) -> None:
+    def _commit(self, s, q, tau, v1, v2, p1, p2, s1, s2) -> None:
         """Store the new step velocities, displacements, works and friction forces."""
+        s["p_max"] = max(s["p_max"], self.M1 * abs(v1) + self.M2 * abs(v2))
         s["U1"] += tau * v1
         s["U2"] += tau * v2
         s["V1"], s["V2"] = v1, v2
