@@ -80,7 +80,7 @@ def build_model(params: Params | Mapping[str, float] | None = None,
     if not isinstance(options, Options):
         options = Options.from_mapping(options)
     if not isinstance(params, Params):
-        params = Params().with_(**dict(params or {}))
+        params = Params.from_mapping(params or {})
     params.validate(options.active_groups())
     if options.elastic:
         from .elastic import ElasticModel

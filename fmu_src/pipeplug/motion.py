@@ -64,6 +64,9 @@ class Motion:
 
         ``t`` may be a float or a numpy array (then both results are arrays).
         """
+        if self.k == 0.0:                 # uniform acceleration, the common case: fewer ops
+            V0, a0 = self.V0, self.a0
+            return self.U0 + t * (V0 + 0.5 * a0 * t), V0 + a0 * t
         S, C, dS = self._basis(t)
         return self.U0 + self.V0 * S + self.a0 * C, self.V0 * dS + self.a0 * S
 

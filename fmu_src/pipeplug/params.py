@@ -105,10 +105,12 @@ class _Derived:
 
     def with_(self, **changes: float) -> "Params":
         """A copy with some values changed (unknown names raise :class:`ParameterError`)."""
-        for key in changes:
-            if key not in _BY_NAME:
-                raise ParameterError(key, changes[key], "one of " + ", ".join(self.names()))
-        return replace(self, **{k: _as_number(v) for k, v in changes.items()})
+        return replace(self, **_checked_names(changes))
+
+    @classmethod
+    def from_mapping(cls, values) -> "Params":
+        """Parameters from a mapping of contract names; missing ones take their defaults."""
+        return cls(**_checked_names(values))
 
     def validate(self, active: frozenset[str] = frozenset()) -> "Params":
         """Check every active parameter against its range.
@@ -202,6 +204,14 @@ Fields are the names of :data:`PARAMETERS` (one place for units, defaults and ra
 Construct with keywords; :meth:`validate` checks the ranges.
 """
 Params.__module__ = __name__
+
+
+def _checked_names(values) -> dict:
+    """``values`` with numbers as floats; an unknown name raises :class:`ParameterError`."""
+    for key in values:
+        if key not in _BY_NAME:
+            raise ParameterError(key, values[key], "one of " + ", ".join(_BY_NAME))
+    return {k: _as_number(v) for k, v in values.items()}
 
 
 def _as_number(value):

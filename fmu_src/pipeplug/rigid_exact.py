@@ -50,7 +50,11 @@ class RigidExact:
         self.outer = outer_contact_for(params.P1, params.L1, params.tau1, options.contact_growth)
         self._project = self._project_pair if self.coupled else self._project_alone
         self.time = 0.0
-        self._start_piece(0.0, (0.0, 0.0, 0.0, 0.0), 0.0, 0.0, math.nan, 0)
+        # At rest, under no force yet (Q = nan): the first advance starts the first real piece.
+        self._W0, self._kick, self._horizon = (0.0, 0.0), 0, 0.0
+        self._piece = AtRest(0.0, math.nan, (0.0, 0.0, 0.0, 0.0), 0.0, 0.0)
+        self._t_event = self._t_snap = self._searched = math.inf
+        self._labels = ()
 
     # Stepping ---------------------------------------------------------------------------
     def advance(self, q: float, h: float) -> None:
@@ -61,7 +65,7 @@ class RigidExact:
             self.time = t_end            # the common case: no event inside the step
             return
         if q != self._piece.Q:
-            self._restart(q)
+            self._restart(q, t_end)
         for _ in range(_MAX_EVENTS_PER_STEP):
             if t_end > self._searched:
                 self._search(max(t_end - self._piece.t0, 2.0 * self._horizon))
@@ -71,15 +75,16 @@ class RigidExact:
             self._take_event()
         raise RuntimeError(f"more than {_MAX_EVENTS_PER_STEP} friction events in one step")
 
-    def _restart(self, q: float) -> None:
-        """Start a new piece at the current time under a new force ``q``."""
+    def _restart(self, q: float, t_end: float) -> None:
+        """Start a new piece at the current time under a new force ``q``, looking for its
+        events up to ``t_end`` [s]."""
         U1, V1, U2, V2, W_in, W_fr = self._values_at(self.time)
         p = self._piece
         if p.s1 and V1 * p.s1 < 0.0:      # round-off past a stop that was not reached
             V1 = 0.0
         if p.s2 and (V1 - V2) * p.s2 < 0.0:
             V2 = V1
-        self._start_piece(self.time, (U1, V1, U2, V2), W_in, W_fr, q, 0)
+        self._start_piece(self.time, (U1, V1, U2, V2), W_in, W_fr, q, 0, t_end - self.time)
 
     def _take_event(self) -> None:
         """Move the origin to the next event, set the exact post-event values, re-decide modes."""
@@ -182,14 +187,16 @@ class RigidExact:
         table = np.empty((len(rows), len(times)))
         q = float(q)
         if q != self._piece.Q:
-            self._restart(q)
+            self._restart(q, float(times[-1]))
+        # Kinematics alone need no forces or works: evaluate only what is asked for.
+        evaluate = self._kinematics_at if max(rows) < 4 else self._outputs_at
         t_last, done = float(times[-1]), 0
         while done < len(times):
             if t_last > self._searched:
                 self._search(max(t_last - self._piece.t0, 2.0 * self._horizon))
             upto = int(np.searchsorted(times, self._t_snap, side="left"))
             if upto > done:
-                values = self._outputs_at(times[done:upto])
+                values = evaluate(times[done:upto])
                 for i, row in enumerate(rows):
                     table[i, done:upto] = values[row]
                 done = upto
@@ -210,6 +217,12 @@ class RigidExact:
     def outputs(self) -> Outputs:
         """The contract's outputs at the current time."""
         return Outputs(*self._outputs_at(self.time))
+
+    def _kinematics_at(self, t):
+        """``(V1, V2, U1, U2)`` at absolute time(s) ``t`` inside the current piece."""
+        p = self._piece
+        U1, V1, U2, V2 = p.state(t - p.t0)
+        return V1, V2, U1, U2
 
     def _outputs_at(self, t):
         """Output values at absolute time(s) ``t`` inside the current piece."""
