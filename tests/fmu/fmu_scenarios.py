@@ -1,0 +1,191 @@
+"""Scenarios run against PipePlug.fmu, each in a fresh process (``fmu_helpers.run_scenario``).
+
+    python fmu_scenarios.py SCENARIO FMU_DIR '{"json": "keyword arguments"}'
+
+The last stdout line is ``RESULT <json>``: the scenario's result, the collected log and the
+file the FMU's private copy of the core (``pipeplug_fmu_core``) was loaded from. A process that
+crashes prints no result, so the test fails.
+"""
+from __future__ import annotations
+
+import json
+import sys
+
+from fmu_driver import LOG, Slave, pulse, run_grid
+
+
+def runs(fmu_dir, q0, t0, runs):
+    """One instance per named run ``{"params": {...}, "times": [t0, t1, ...]}``, each driven
+    under the pulse: outputs after each step."""
+    rows = {}
+    for name, run in runs.items():
+        slave = Slave(fmu_dir, name)
+        if slave.start(run["params"]):
+            raise RuntimeError(f"initialization of {name} refused")
+        rows[name] = run_grid(slave, run["times"], q0, t0)
+        slave.close()
+    return {"rows": rows}
+
+
+def interleaved(fmu_dir, cases, times, q0, t0):
+    """Instances with different parameters, stepped in turn on one grid."""
+    slaves = [Slave(fmu_dir, f"inst{k}") for k in range(len(cases))]
+    for slave, params in zip(slaves, cases):
+        slave.start(params)
+    rows = [[] for _ in slaves]
+    for a, b in zip(times[:-1], times[1:]):
+        for slave, out in zip(slaves, rows):
+            if slave.step(a, b - a, pulse(a, q0, t0)):
+                raise RuntimeError("step refused")
+            out.append(slave.outputs())
+    return {"rows": rows}
+
+
+def state(fmu_dir, params, q0, t0, times, save_index):
+    """Save the state at times[save_index]; continue, restore twice, restore a serialized copy
+    into a fresh default instance; the four continuations and the outputs right after restore."""
+    a = Slave(fmu_dir, "a")
+    a.start(params)
+    run_grid(a, times[:save_index + 1], q0, t0)
+    saved_outputs = a.outputs()
+    snapshot = a.fmu.getFMUstate()
+    rest = times[save_index:]
+    runs = {"original": run_grid(a, rest, q0, t0)}
+    after_restore = {}
+    for name in ("restore1", "restore2"):
+        a.fmu.setFMUstate(snapshot)
+        after_restore[name] = a.outputs()
+        runs[name] = run_grid(a, rest, q0, t0)
+    blob = a.fmu.serializeFMUstate(snapshot)
+    b = Slave(fmu_dir, "fresh")
+    b.start()                               # default parameters: the state must bring its own
+    b.fmu.setFMUstate(b.fmu.deSerializeFMUstate(blob))
+    after_restore["fresh"] = b.outputs()
+    restored_params = {name: b.get(name) for name in params}
+    runs["fresh"] = run_grid(b, rest, q0, t0)
+    a.fmu.freeFMUstate(snapshot)
+    return {"saved_outputs": saved_outputs, "after_restore": after_restore, "runs": runs,
+            "restored_params": restored_params, "blob_size": len(blob)}
+
+
+def bad_input(fmu_dir, kind, value=None):
+    """One refused input of ``kind``; then every kind of call on that instance, and a second
+    instance in the same process stepping normally."""
+    bad = Slave(fmu_dir, "bad")
+    statuses = {}
+    if kind == "parameters":                     # value = {name: value}
+        statuses["exit_init"] = bad.start(value)
+    else:
+        stop = 0.01 if kind == "past_stop" else None
+        statuses["exit_init"] = bad.start(stop=stop)
+        statuses["first_step"] = bad.step(0.0, 0.005, 23e3)
+        if kind == "fixed_after_init":
+            statuses["refused"] = bad.set(value[0], value[1])
+        elif kind == "nan_q":
+            statuses["refused"] = bad.step(0.005, 0.005, float("nan"))
+        elif kind == "wrong_time":
+            statuses["refused"] = bad.step(0.5, 0.005, 23e3)
+        elif kind == "bad_state":
+            statuses["refused"] = bad.call("setFMUstate",
+                                           bad.fmu.deSerializeFMUstate(b"not a PipePlug state"))
+        elif kind == "past_stop":
+            statuses["to_stop"] = bad.step(0.005, 0.005, 23e3)
+            statuses["refused"] = bad.step(0.01, 0.005, 23e3)
+    lines_at_refusal = len(LOG)
+    if kind != "past_stop":                      # past the stop time no step is valid
+        statuses["later_step"] = bad.step(0.005, 0.005, 23e3)
+    statuses["later_set"] = bad.set("Q", 1.0)
+    if "refused" not in statuses or statuses["refused"] == 4:   # refused for good: quiet now
+        statuses["later_set_parameter"] = bad.set("tau1", 1.0)
+    statuses["later_get"] = bad.call("getReal", [0, 1, 2])
+    statuses["later_terminate"] = bad.call("terminate")
+    bad.fmu.freeInstance()
+    good = Slave(fmu_dir, "good")
+    good.start()
+    good_rows = run_grid(good, [0.0, 0.01, 0.02], 23e3, 0.05)
+    good.close()
+    return {"statuses": statuses, "lines_at_refusal": lines_at_refusal, "good_rows": good_rows}
+
+
+def reset(fmu_dir, params, times, q0, t0):
+    """Runs after fmi2Reset (of a used instance and of a refused one) and on a fresh instance."""
+    used = Slave(fmu_dir, "used")
+    used.start(params)
+    run_grid(used, times, q0, t0)
+    used.call("reset")
+    after_reset = {name: used.get(name) for name in params}
+    after_reset_outputs = used.outputs()
+    refused = Slave(fmu_dir, "refused")
+    refused_status = refused.start({"tau2": float("nan")})
+    refused.call("reset")
+    runs = {}
+    for name, slave in (("used", used), ("refused", refused), ("fresh", Slave(fmu_dir, "new"))):
+        slave.start()
+        runs[name] = run_grid(slave, times, q0, t0)
+        slave.close()
+    return {"after_reset": after_reset, "after_reset_outputs": after_reset_outputs,
+            "refused_status": refused_status, "runs": runs}
+
+
+def simulate_pulse(fmu_dir, cases, q0, t0, stop, interval):
+    """fmpy.simulate_fmu with a rectangular-pulse input signal, once per parameter case."""
+    import numpy as np
+    from fmpy import simulate_fmu
+
+    signal = np.array([(0.0, q0), (t0, q0), (t0, 0.0), (stop, 0.0)],
+                      dtype=[("time", float), ("Q", float)])
+    runs = []
+    for params in cases:
+        res = simulate_fmu(fmu_dir, start_time=0.0, stop_time=stop, output_interval=interval,
+                           input=signal, start_values=params, fmi_type="CoSimulation")
+        runs.append({name: res[name].tolist() for name in res.dtype.names})
+    return {"runs": runs}
+
+
+def host_core_first(fmu_dir):
+    """The host imports this repository's ``pipeplug`` before the FMU; v_pipe after 1 ms."""
+    import pipeplug
+
+    slave = Slave(fmu_dir, "after_host")
+    slave.start()
+    rows = run_grid(slave, [0.0, 1e-3], 23e3, 0.05)
+    slave.close()
+    return {"host_core_file": pipeplug.__file__, "v_pipe": rows[-1]["v_pipe"]}
+
+
+def initialize_only(fmu_dir, params):
+    """exitInitializationMode with ``params``; a few steps if it is accepted."""
+    slave = Slave(fmu_dir, "only")
+    status = slave.start(params)
+    rows = [] if status else run_grid(slave, [0.0, 1e-4, 2e-4], 23e3, 0.05)
+    slave.close()
+    return {"status": status, "rows": rows}
+
+
+def standalone(fmu_dir):
+    """Whether ``pipeplug`` is importable before the FMU loads; v_pipe after 1 ms of Q0."""
+    import importlib.util
+
+    visible = importlib.util.find_spec("pipeplug") is not None
+    slave = Slave(fmu_dir, "standalone")
+    slave.start()
+    rows = run_grid(slave, [0.0, 1e-3], 23e3, 0.05)
+    slave.close()
+    return {"core_visible_before": visible, "v_pipe": rows[-1]["v_pipe"]}
+
+
+def main() -> None:
+    name, fmu_dir, kwargs = sys.argv[1], sys.argv[2], json.loads(sys.argv[3])
+    if name.startswith("cosim"):
+        import fmu_cosim
+        result = getattr(fmu_cosim, name)(fmu_dir, **kwargs)
+    else:
+        result = globals()[name](fmu_dir, **kwargs)
+    core = sys.modules.get("pipeplug_fmu_core")   # the FMU's private copy of the core
+    result.update(log=LOG, core_file=getattr(core, "__file__", None))
+    sys.stdout.write("\nRESULT " + json.dumps(result) + "\n")
+    sys.stdout.flush()
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,90 @@
+"""Bad input per the contract's "Bad input" and "Stepping" sections: one log line naming the
+variable, its value and the allowed range; fatal at initialization or on a fixed parameter set
+after it, discard for a step; at most one exception per instance, quiet afterwards; the host
+process survives and another instance in it keeps working.
+
+A fatal refusal's line is the one pythonfmu logs for the instance's exception (status fatal);
+a discarded step's line is logged by PipePlug (status discard)."""
+from __future__ import annotations
+
+import pytest
+from fmu_helpers import Q0, assert_matches_closed_form, closed_form, columns, run_scenario
+
+FATAL, DISCARD = 4, 2
+
+#: id -> (kind, value, call refused, status, texts the log line must contain)
+CASES = {
+    "NaN parameter": ("parameters", {"tau2": float("nan")}, "exit_init", FATAL,
+                      ["tau2 = nan", "allowed", ">= 0"]),
+    "L2 > L1": ("parameters", {"L2": 2.0}, "exit_init", FATAL, ["L2 = 2.0", "allowed", "L1"]),
+    "negative dt with fd": ("parameters", {"solver": "fd", "dt": -1e-4}, "exit_init", FATAL,
+                            ["dt = -0.0001", "allowed", "> 0"]),
+    "unknown solver": ("parameters", {"solver": "rk4"}, "exit_init", FATAL,
+                       ["solver = 'rk4'", "'exact'", "'fd'"]),
+    "percent in a string": ("parameters", {"solver": "%s%s%n%d"}, "exit_init", FATAL,
+                            ["solver = '%s%s%n%d' is not allowed", "'exact'"]),
+    "fixed parameter after init": ("fixed_after_init", ["tau2", 2e4], "refused", FATAL,
+                                   ["tau2 = 20000.0", "allowed", "after initialization"]),
+    "fixed option after init": ("fixed_after_init", ["solver", "fd"], "refused", FATAL,
+                                ["solver = 'fd'", "after initialization"]),
+    "damaged FMU state": ("bad_state", None, "refused", FATAL, ["FMUstate = ", "allowed"]),
+    "NaN Q": ("nan_q", None, "refused", DISCARD, ["Q = nan", "allowed", "finite"]),
+    "wrong communication point": ("wrong_time", None, "refused", DISCARD,
+                                  ["currentCommunicationPoint = 0.5", "allowed", "0.005"]),
+    "past stopTime": ("past_stop", None, "refused", DISCARD, ["0.015", "allowed", "stopTime"]),
+}
+
+
+@pytest.mark.parametrize("case", list(CASES), ids=list(CASES))
+def test_refusal_per_contract(fmu_dir, case):
+    kind, value, call, status, texts = CASES[case]
+    result = run_scenario("bad_input", fmu_dir, kind=kind, value=value)
+    statuses = result["statuses"]
+    assert statuses[call] == status, statuses
+    assert len(result["log"]) == 1, result["log"]                # exactly one line, from "bad"
+    line = result["log"][0]
+    assert (line["instance"], line["status"]) == ("bad", status)
+    for text in texts:
+        assert text in line["message"], (text, line["message"])
+    assert not result["log"][result["lines_at_refusal"]:]        # nothing more from "bad"
+    later = {k: v for k, v in statuses.items() if k.startswith("later")}
+    if status == FATAL:                                          # quiet: no second fatal
+        assert later == {"later_step": DISCARD, "later_set": 0, "later_set_parameter": 0,
+                         "later_get": 0, "later_terminate": 0}
+    else:                                                        # still usable
+        assert set(later.values()) == {0}
+    assert_matches_closed_form(columns(result["good_rows"]), [0.01, 0.02], {})
+
+
+def test_percent_through_fmpy_default_logger(fmu_dir):
+    """FMPy's default logger printf-formats the message in C: '%s' must arrive escaped."""
+    result = run_scenario("default_logger", fmu_dir, script="fmu_default_logger.py",
+                          params={"solver": "%s%s%s%n"})
+    assert result["status"] == FATAL
+    assert "[FATAL]" in result["stdout"]
+    assert "solver = '%s%s%s%n' is not allowed" in result["stdout"]
+
+
+def test_refused_step_under_libcosim(fmu_file):
+    """A NaN Q under libcosim: the step is discarded, libcosim stops the run, the process and
+    the FMU's last values survive. (A refusal at exitInitializationMode cannot be shown under
+    libcosim: its fixed-step algorithm does not catch a failing fmi2ExitInitializationMode of
+    any FMU and aborts the process.)"""
+    result = run_scenario("cosim_refused_step", fmu_file, params={"tau2": 1e4}, q0=Q0,
+                          step=1e-4, t_nan=0.01)
+    assert result["ok_before"] is True and result["ok_after"] is False
+    want = closed_form({}, [0.01])["v_pipe"][0]
+    assert abs(result["v_pipe"] - want) <= 1e-9 * want
+
+
+@pytest.mark.parametrize("attempt", range(3))
+def test_elastic_is_built_or_refused_cleanly(fmu_dir, attempt):
+    """elastic=true goes through the same model factory: it runs, or it is one clean refusal;
+    either way the host process ends normally (repeated: a crash at exit may be intermittent)."""
+    result = run_scenario("initialize_only", fmu_dir, params={"elastic": True})
+    if result["status"] == 0:
+        assert result["log"] == [] and len(result["rows"]) == 2
+        assert 0.0 < result["rows"][-1]["W_input"]
+    else:
+        assert result["status"] == FATAL and len(result["log"]) == 1
+        assert "elastic = True is not allowed" in result["log"][0]["message"]
