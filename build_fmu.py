@@ -22,7 +22,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent
 SOURCES = ROOT / "fmu_src"
 SLAVE = SOURCES / "PipePlug.py"
-SHIPPED = (SOURCES / "pipeplug_fmi.py", SOURCES / "pipeplug")
+SHIPPED = (SOURCES / "pipeplug_fmi.py", SOURCES / "pythonfmu_exit_guard.py", SOURCES / "pipeplug")
 DEFAULT_DEST = ROOT / "dist" / "PipePlug.fmu"
 
 

@@ -34,6 +34,10 @@ from pipeplug_fmi import (DEFAULT_EXPERIMENT, DESCRIPTION, INPUT, MODE_OUTPUTS, 
 from pythonfmu import (Boolean, DefaultExperiment, Fmi2Causality, Fmi2Initial, Fmi2Slave,
                        Fmi2Variability, Integer, Real, String)
 from pythonfmu.enums import Fmi2Status
+from pythonfmu_exit_guard import install as guard_host_exit
+
+# pythonfmu 0.7's binary releases its interpreter state twice at process exit (see the guard).
+guard_host_exit(Path(__file__).resolve().parent.parent / "binaries" / "linux64" / "PipePlug.so")
 
 _CORE_NAME = "pipeplug_fmu_core"
 
@@ -55,7 +59,6 @@ def _shipped_core():
 
 
 core = _shipped_core()
-importlib.import_module(_CORE_NAME + ".host").INSIDE_FMU = True   # before any model is built
 OPTIONS, PARAMETERS, ParameterError = core.OPTIONS, core.PARAMETERS, core.ParameterError
 
 _Q_VR = 0                                         # value reference of Q (registered first)

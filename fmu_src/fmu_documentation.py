@@ -84,8 +84,9 @@ fmi2SetFMUstate and the serialization functions save the whole internal state.</
 <h2>Host requirements</h2>
 <p>A Python-hosted FMI 2.0 importer (FMPy, libcosimpy, ...) on linux64 or win64 with numpy
 installed. The FMU brings its own copy of the core and uses it even when the host has imported
-another one. Inside the FMU the elastic kernels run as plain Python; with numba installed, the
-environment variable <code>PIPEPLUG_JIT=1</code> compiles them.</p>
+another one. With numba installed, the elastic kernels are compiled (cached on disk under
+<code>~/.cache/pipeplug</code> or <code>PIPEPLUG_CACHE_DIR</code>); without it, or with
+<code>PIPEPLUG_NO_JIT=1</code>, they run as plain Python with the same results.</p>
 """
 
 

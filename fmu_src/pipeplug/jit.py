@@ -3,8 +3,7 @@
 Kernels are written once, as plain loops over float arrays, and decorated with :func:`jit`.
 With numba installed they are compiled on first use (``nopython`` mode, IEEE arithmetic: no
 fast-math, so the compiled and the Python path give the same numbers); without it, or with the
-environment variable ``PIPEPLUG_NO_JIT=1``, they run as ordinary Python; inside the FMU they
-run as ordinary Python unless ``PIPEPLUG_JIT=1`` (see :mod:`pipeplug.host`).
+environment variable ``PIPEPLUG_NO_JIT=1``, they run as ordinary Python.
 
 Compiled code is cached on disk so that a new process (for example each run of the FMU, whose
 files an importer unpacks into a fresh temporary folder) reuses it. numba's own cache is keyed
@@ -21,8 +20,6 @@ import os
 import sys
 from pathlib import Path
 
-from . import host
-
 __all__ = ["jit", "ENABLED", "NO_JIT_ENV", "CACHE_DIR_ENV", "cache_folder"]
 
 NO_JIT_ENV = "PIPEPLUG_NO_JIT"
@@ -33,8 +30,6 @@ _PACKAGE = __name__.rpartition(".")[0] or "pipeplug"
 def _import_numba():
     """The numba module, or None when it is absent, broken or switched off."""
     if os.environ.get(NO_JIT_ENV, "").strip() not in ("", "0"):
-        return None
-    if host.INSIDE_FMU and os.environ.get(host.FMU_JIT_ENV, "").strip() in ("", "0"):
         return None
     try:
         import numba
