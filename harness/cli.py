@@ -26,12 +26,7 @@ def _parser() -> argparse.ArgumentParser:
                     "analytic solutions; reproduce the paper's figures; measure accuracy cost.")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for name, module_name in SUBCOMMANDS.items():
-        try:
-            module = importlib.import_module(f"pipeplug_harness.{module_name}")
-        except ModuleNotFoundError as err:
-            if err.name != f"pipeplug_harness.{module_name}":
-                raise
-            continue
+        module = importlib.import_module(f"pipeplug_harness.{module_name}")
         cmd = sub.add_parser(name, help=module.HELP, description=module.HELP)
         module.add_arguments(cmd)
         cmd.set_defaults(run=module.main)

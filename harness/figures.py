@@ -68,6 +68,8 @@ def _draw_rigid(ax, fig: str, cases: list[cf.Case], growth: bool, fmu) -> None:
         ax.plot(tt * 1e3, sol["V1"], ":", color="k", lw=0.8)
         ax.plot(tt * 1e3, sol["V2"], ":", color="k", lw=0.8)
         for name, te in cf.event_times(case).items():
+            if name == "t4" and case.tau2 == 0.0:
+                continue                  # the plug never moves: no plug stop to mark
             if te is not None and math.isfinite(te) and te <= 0.3:
                 ax.axvline(te * 1e3, color=colors[i], ls="--", lw=0.6, alpha=0.7)
     for name, level in _levels(fig).items():
