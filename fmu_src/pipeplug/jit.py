@@ -45,7 +45,7 @@ def _sources_key() -> str:
     Kernels call helpers from other modules; numba would not notice a change there, so all of
     them are part of the key (an edit gives a fresh cache folder).
     """
-    digest = hashlib.sha256()
+    digest = hashlib.sha256(_PACKAGE.encode())   # cached code refers to modules by name
     for path in sorted(Path(__file__).parent.glob("*.py")):
         content = path.read_bytes()
         if path.name == Path(__file__).name or b"@jit" in content:
@@ -89,6 +89,10 @@ def _install_cache_locator(numba) -> None:
 
         def get_cache_path(self):
             return self._cache_path
+
+        def get_source_stamp(self):
+            # Unpacking an FMU gives its files new modification times; the content decides.
+            return _sources_key()
 
         @classmethod
         def from_function(cls, py_func, py_file):
