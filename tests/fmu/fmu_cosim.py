@@ -46,20 +46,26 @@ def _execution(fmu_file, params, step, tmp):
     return CosimExecution.from_osp_config_file(str(osp))
 
 
-def cosim_pulse(fmu_file, params, q0, t0, step, checkpoints):
-    """Run under the pulse (Q set by an override manipulator); outputs at the checkpoints [s]."""
+def _driven(fmu_file, params, step, tmp):
+    """An execution with an override manipulator for Q and a last-value observer attached."""
     from libcosimpy.CosimManipulator import CosimManipulator
     from libcosimpy.CosimObserver import CosimObserver
 
+    execution = _execution(fmu_file, params, step, tmp)
+    index = execution.slave_index_from_instance_name("pipeplug")
+    vrs = {v.name.decode(): v.reference for v in execution.slave_variables(index)}
+    override = CosimManipulator.create_override()
+    observer = CosimObserver.create_last_value()
+    execution.add_manipulator(override)
+    execution.add_observer(observer)
+    return execution, index, vrs, override, observer
+
+
+def cosim_pulse(fmu_file, params, q0, t0, step, checkpoints):
+    """Run under the pulse (Q set by an override manipulator); outputs at the checkpoints [s]."""
     rows = []
     with tempfile.TemporaryDirectory() as tmp:
-        execution = _execution(fmu_file, params, step, tmp)
-        index = execution.slave_index_from_instance_name("pipeplug")
-        vrs = {v.name.decode(): v.reference for v in execution.slave_variables(index)}
-        override = CosimManipulator.create_override()
-        observer = CosimObserver.create_last_value()
-        execution.add_manipulator(override)
-        execution.add_observer(observer)
+        execution, index, vrs, override, observer = _driven(fmu_file, params, step, tmp)
         for t in checkpoints:           # the pulse edge t0 must be one of the checkpoints
             override.slave_real_values(index, [vrs["Q"]], [q0 if t <= t0 else 0.0])
             if not execution.simulate_until(round(t * 1e9)):
@@ -72,17 +78,8 @@ def cosim_pulse(fmu_file, params, q0, t0, step, checkpoints):
 
 def cosim_refused_step(fmu_file, params, q0, step, t_nan):
     """Q = q0 until ``t_nan`` [s], then NaN: whether each run succeeded; v_pipe at the end."""
-    from libcosimpy.CosimManipulator import CosimManipulator
-    from libcosimpy.CosimObserver import CosimObserver
-
     with tempfile.TemporaryDirectory() as tmp:
-        execution = _execution(fmu_file, params, step, tmp)
-        index = execution.slave_index_from_instance_name("pipeplug")
-        vrs = {v.name.decode(): v.reference for v in execution.slave_variables(index)}
-        override = CosimManipulator.create_override()
-        observer = CosimObserver.create_last_value()
-        execution.add_manipulator(override)
-        execution.add_observer(observer)
+        execution, index, vrs, override, observer = _driven(fmu_file, params, step, tmp)
         override.slave_real_values(index, [vrs["Q"]], [q0])
         ok_before = execution.simulate_until(round(t_nan * 1e9))
         override.slave_real_values(index, [vrs["Q"]], [float("nan")])
