@@ -127,6 +127,9 @@ def refine_root(g, dg, a: float, b: float) -> float:
     Safeguarded Newton: a Newton step from the latest iterate when it stays inside the
     bracket, bisection otherwise; the bracket shrinks with every evaluation. Stops when the
     update or the bracket is a few ulps wide. Returns a time in (a, b].
+
+    Newton converges from one side on a convex or concave ``g``, so the far bracket end may
+    never move: a converged Newton iterate is the answer, not that end.
     """
     ga, gb = g(a), g(b)
     if gb == 0.0:
@@ -144,7 +147,9 @@ def refine_root(g, dg, a: float, b: float) -> float:
             a, ga = new, g_new
         else:
             b, gb = new, g_new
-        if abs(new - t) <= 4.0 * math.ulp(new) or b - a <= 4.0 * math.ulp(b):
+        if abs(new - t) <= 4.0 * math.ulp(new):
+            return new
+        if b - a <= 4.0 * math.ulp(b):
             return b
         t, gt = new, g_new
     return b

@@ -28,6 +28,7 @@ __all__ = ["RigidExact"]
 
 _MAX_EVENTS_PER_STEP = 100_000
 _EVENT_SNAP = 1e-13          # relative: an event this close after a step end is taken in it
+_SNAP_LIMIT = 1e-9           # relative: largest believable round-off of a segment crossing
 _STATE_KEYS = ("time", "t0", "U1", "V1", "U2", "V2", "W_in", "W_fr", "Q", "kick", "horizon")
 
 
@@ -99,8 +100,7 @@ class RigidExact:
             elif label in ("plug_rest", "stick"):
                 V2 = V1
             elif label == "segment":
-                U2 += self._piece.end - U1
-                U1 = self._piece.end
+                U1, U2 = self._snap_to_segment_end(U1, U2)
             else:
                 kick = 1 if label == "breakaway+" else -1
         if not self.coupled:
@@ -108,6 +108,21 @@ class RigidExact:
         searched_to = self._piece.t0 + self._horizon
         self._start_piece(t, (U1, V1, U2, V2), W_in, W_fr, self._piece.Q, kick,
                           max(searched_to - t, 0.0))
+
+    def _snap_to_segment_end(self, U1: float, U2: float) -> tuple[float, float]:
+        """Put the pipe exactly on the segment end it reached (and a plug moving with it).
+
+        The event time is a root to round-off, so the move is round-off; a larger one means
+        the event was found at the wrong time, and is raised rather than hidden.
+        """
+        p = self._piece
+        end = p.end
+        reach = abs(end - p.U1) + abs(end)
+        if not abs(U1 - end) <= _SNAP_LIMIT * reach:
+            raise RuntimeError(f"segment event at U1 = {U1!r} m, {end!r} m expected")
+        if p.s2 == 0:                     # the plug moves with the pipe: same shift
+            U2 += end - U1
+        return end, U2
 
     def _start_piece(self, t0, origin, W_in, W_fr, q, kick, horizon=0.0) -> None:
         origin = tuple(map(float, origin))    # numpy scalars from dense output -> floats
