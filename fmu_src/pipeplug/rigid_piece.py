@@ -124,11 +124,26 @@ class Together(_Piece):
         found = [(t_rest, "pipe_rest")]
         found.append((body.time_to_position(self.end, t_lim), "segment"))
         if self.plug_limit is not None and body.k != 0.0:
-            # The plug needs -f2 = M2 a(U); it breaks away where |a(U)| reaches F2/M2.
-            for a_lim, label in ((self.plug_limit, "breakaway+"), (-self.plug_limit, "breakaway-")):
-                U_lim = self.U1 + (body.a0 - a_lim) / body.k
-                found.append((body.time_to_position(U_lim, t_lim), label))
+            found.extend(self._breakaways(t_lim))
         return _earliest(found)
+
+    def _breakaways(self, t_lim):
+        """Times at which the plug's static force reaches its limit, with their labels.
+
+        The plug needs -f2 = M2 a(U), a(U) = a0 - k (U - U0); it breaks away where s a(U)
+        reaches F2/M2 (s = +1: breakaway+, s = -1: breakaway-). The piece may start with
+        s a0 at the limit to round-off (it was chosen by the projection's slack): then the
+        plug breaks away at once if s a grows as the body moves, else never on this side.
+        """
+        body, limit = self.body, self.plug_limit
+        moving = self.s1 * body.k             # s a(U) grows as the body moves iff -s moving > 0
+        for s, label in ((1, "breakaway+"), (-1, "breakaway-")):
+            if s * body.a0 >= limit:
+                if -s * moving > 0.0:
+                    yield 0.0, label
+                continue
+            U_lim = self.U1 + (body.a0 - s * limit) / body.k
+            yield body.time_to_position(U_lim, t_lim), label
 
 
 class BothSlide(_Piece):
@@ -191,9 +206,13 @@ class BothSlide(_Piece):
                 continue
             gb = s2 * g(b)
             if gb <= 0.0:
-                if gb == 0.0:
-                    return b
-                return refine_root(g, dg, a, b) if s2 * g(a) > 0.0 else a
+                if s2 * g(a) > 0.0:
+                    return b if gb == 0.0 else refine_root(g, dg, a, b)
+                if a > 0.0 or self.V1 != self.V2:
+                    return a
+                # Started at zero relative velocity (a breakaway): there the relative
+                # acceleration is zero too, and the plug's mode says which way the relative
+                # velocity goes. A first part going the other way is round-off, not a stick.
             a = b
         return _INF
 
