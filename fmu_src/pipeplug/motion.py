@@ -64,11 +64,20 @@ class Motion:
 
         ``t`` may be a float or a numpy array (then both results are arrays).
         """
+        d, V = self.travel(t)
+        return self.U0 + d, V
+
+    def travel(self, t):
+        """Displacement since the piece start [m] and velocity [m/s] at time ``t`` [s].
+
+        Works are computed from the displacement itself, never as a difference of two
+        positions, which would lose the digits the positions share.
+        """
         if self.k == 0.0:                 # uniform acceleration, the common case: fewer ops
             V0, a0 = self.V0, self.a0
-            return self.U0 + t * (V0 + 0.5 * a0 * t), V0 + a0 * t
+            return t * (V0 + 0.5 * a0 * t), V0 + a0 * t
         S, C, dS = self._basis(t)
-        return self.U0 + self.V0 * S + self.a0 * C, self.V0 * dS + self.a0 * S
+        return self.V0 * S + self.a0 * C, self.V0 * dS + self.a0 * S
 
     def acceleration_at(self, U: float) -> float:
         """Acceleration [m/s^2] when the body is at position ``U`` [m]."""

@@ -16,8 +16,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
-
 __all__ = ["NoContact", "ConstantContact", "GrowingContact", "outer_contact_for"]
 
 
@@ -32,12 +30,13 @@ class NoContact:
         """``(force0 [N], kappa [N/m], end [m])`` with ``f1 = force0 - kappa U`` until ``end``."""
         return 0.0, 0.0, s1 * math.inf
 
-    def work(self, Ua: float, Ub: float, s1: int) -> float:
-        """Friction work [J] dissipated sliding from ``Ua`` to ``Ub`` in direction ``s1``.
+    def work(self, Ua: float, d, s1: int):
+        """Friction work [J] dissipated sliding from ``Ua`` by ``d`` [m] in direction ``s1``.
 
-        ``Ub`` may be a numpy array (dense output).
+        The slide stays on the segment of ``Ua`` (a segment end is an event). ``d`` may be a
+        numpy array (dense output).
         """
-        return 0.0 * Ub
+        return 0.0 * d
 
 
 class ConstantContact(NoContact):
@@ -52,8 +51,8 @@ class ConstantContact(NoContact):
     def segment(self, U: float, s1: int) -> tuple[float, float, float]:
         return -s1 * self.F1, 0.0, s1 * math.inf
 
-    def work(self, Ua: float, Ub: float, s1: int) -> float:
-        return s1 * self.F1 * (Ub - Ua)
+    def work(self, Ua: float, d, s1: int):
+        return s1 * self.F1 * d
 
 
 class GrowingContact(NoContact):
@@ -82,16 +81,10 @@ class GrowingContact(NoContact):
             return 0.0, 0.0, (0.0 if s1 > 0 else -math.inf)
         return 0.0, s1 * k, (L1 if s1 > 0 else 0.0)
 
-    def work(self, Ua: float, Ub: float, s1: int) -> float:
-        return s1 * (self._potential(Ub) - self._potential(Ua))
-
-    def _potential(self, U):
-        """``k * integral_0^U Lc(u) du`` [J] (float or array)."""
-        if isinstance(U, float):
-            inside, beyond = min(max(U, 0.0), self.L1), max(U - self.L1, 0.0)
-        else:
-            inside, beyond = np.clip(U, 0.0, self.L1), np.maximum(U - self.L1, 0.0)
-        return self.k * (0.5 * inside * inside + self.L1 * beyond)
+    def work(self, Ua: float, d, s1: int):
+        # k * integral of Lc over [Ua, Ua + d], Lc affine on the segment: d times the mean.
+        force0, kappa, _ = self.segment(Ua, s1)
+        return d * (kappa * (Ua + 0.5 * d) - force0)
 
 
 def outer_contact_for(P1: float, L1: float, tau1: float, growth: bool) -> NoContact:

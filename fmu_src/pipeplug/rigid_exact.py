@@ -29,7 +29,8 @@ __all__ = ["RigidExact"]
 _MAX_EVENTS_PER_STEP = 100_000
 _EVENT_SNAP = 1e-13          # relative: an event this close after a step end is taken in it
 _SNAP_LIMIT = 1e-9           # relative: largest believable round-off of a segment crossing
-_STATE_KEYS = ("time", "t0", "U1", "V1", "U2", "V2", "W_in", "W_fr", "Q", "kick", "horizon")
+_STATE_KEYS = ("time", "t0", "U1", "V1", "U2", "V2", "W_in", "W_outer", "W_inner", "Q", "kick",
+               "horizon")
 
 
 class RigidExact:
@@ -52,7 +53,7 @@ class RigidExact:
         self._project = self._project_pair if self.coupled else self._project_alone
         self.time = 0.0
         # At rest, under no force yet (Q = nan): the first advance starts the first real piece.
-        self._W0, self._kick, self._horizon = (0.0, 0.0), 0, 0.0
+        self._W0, self._kick, self._horizon = (0.0, 0.0, 0.0), 0, 0.0
         self._piece = AtRest(0.0, math.nan, (0.0, 0.0, 0.0, 0.0), 0.0, 0.0)
         self._t_event = self._t_snap = self._searched = math.inf
         self._labels = ()
@@ -79,18 +80,18 @@ class RigidExact:
     def _restart(self, q: float, t_end: float) -> None:
         """Start a new piece at the current time under a new force ``q``, looking for its
         events up to ``t_end`` [s]."""
-        U1, V1, U2, V2, W_in, W_fr = self._values_at(self.time)
+        U1, V1, U2, V2, *works = self._values_at(self.time)
         p = self._piece
         if p.s1 and V1 * p.s1 < 0.0:      # round-off past a stop that was not reached
             V1 = 0.0
         if p.s2 and (V1 - V2) * p.s2 < 0.0:
             V2 = V1
-        self._start_piece(self.time, (U1, V1, U2, V2), W_in, W_fr, q, 0, t_end - self.time)
+        self._start_piece(self.time, (U1, V1, U2, V2), works, q, 0, t_end - self.time)
 
     def _take_event(self) -> None:
         """Move the origin to the next event, set the exact post-event values, re-decide modes."""
         t = self._t_event
-        U1, V1, U2, V2, W_in, W_fr = self._values_at(t)
+        U1, V1, U2, V2, *works = self._values_at(t)
         kick = 0
         for label in self._labels:
             if label == "pipe_rest":
@@ -106,7 +107,7 @@ class RigidExact:
         if not self.coupled:
             U2 = V2 = 0.0
         searched_to = self._piece.t0 + self._horizon
-        self._start_piece(t, (U1, V1, U2, V2), W_in, W_fr, self._piece.Q, kick,
+        self._start_piece(t, (U1, V1, U2, V2), works, self._piece.Q, kick,
                           max(searched_to - t, 0.0))
 
     def _snap_to_segment_end(self, U1: float, U2: float) -> tuple[float, float]:
@@ -124,9 +125,11 @@ class RigidExact:
             U2 += end - U1
         return end, U2
 
-    def _start_piece(self, t0, origin, W_in, W_fr, q, kick, horizon=0.0) -> None:
+    def _start_piece(self, t0, origin, works, q, kick, horizon=0.0) -> None:
+        """Start a piece at ``t0`` from ``origin`` = (U1, V1, U2, V2) with the ``works``
+        (input, outer and inner friction [J]) done so far."""
         origin = tuple(map(float, origin))    # numpy scalars from dense output -> floats
-        self._W0 = (float(W_in), float(W_fr))
+        self._W0 = tuple(map(float, works))
         self._kick = kick
         self._piece = self._make_piece(t0, origin, 0.0 if math.isnan(q) else q, kick)
         self._piece.Q = q
@@ -222,12 +225,14 @@ class RigidExact:
 
     # Outputs and state ------------------------------------------------------------------
     def _values_at(self, t):
-        """``(U1, V1, U2, V2, W_input, W_friction)`` at absolute time ``t`` [s]."""
+        """``(U1, V1, U2, V2, W_input, W_outer, W_inner)`` at absolute time(s) ``t`` [s]."""
         p = self._piece
-        U1, V1, U2, V2 = p.state(t - p.t0)
-        W_in = self._W0[0] + (p.Q * (U1 - p.U1) if p.Q == p.Q else 0.0)
-        W_fr = self._W0[1] + p.friction_work(U1, U2)
-        return U1, V1, U2, V2, W_in, W_fr
+        d1, V1, d2, V2 = p.travel(t - p.t0)
+        W_in, W_outer, W_inner = self._W0
+        outer, inner = p.friction_work(d1, d2)
+        if p.Q == p.Q:                        # nan before the first step
+            W_in = W_in + p.Q * d1
+        return p.U1 + d1, V1, p.U2 + d2, V2, W_in, W_outer + outer, W_inner + inner
 
     def outputs(self) -> Outputs:
         """The contract's outputs at the current time."""
@@ -236,14 +241,15 @@ class RigidExact:
     def _kinematics_at(self, t):
         """``(V1, V2, U1, U2)`` at absolute time(s) ``t`` inside the current piece."""
         p = self._piece
-        U1, V1, U2, V2 = p.state(t - p.t0)
-        return V1, V2, U1, U2
+        d1, V1, d2, V2 = p.travel(t - p.t0)
+        return V1, V2, p.U1 + d1, p.U2 + d2
 
     def _outputs_at(self, t):
         """Output values at absolute time(s) ``t`` inside the current piece."""
-        U1, V1, U2, V2, W_in, W_fr = self._values_at(t)
+        U1, V1, U2, V2, W_in, W_outer, W_inner = self._values_at(t)
         f1, f2 = self._piece.forces(U1)
-        return V1, V2, U1, U2, f1, f2, W_in, W_fr, self._piece.s1, self._piece.s2
+        return (V1, V2, U1, U2, f1, f2, W_in, W_outer + W_inner, self._piece.s1,
+                self._piece.s2)
 
     def get_state(self) -> dict:
         """The whole state: the current piece's origin, its force and search horizon."""
@@ -256,6 +262,6 @@ class RigidExact:
         s = {k: state[k] for k in _STATE_KEYS}
         self._start_piece(float(s["t0"]), (float(s["U1"]), float(s["V1"]), float(s["U2"]),
                                            float(s["V2"])),
-                          float(s["W_in"]), float(s["W_fr"]), float(s["Q"]), int(s["kick"]),
+                          (s["W_in"], s["W_outer"], s["W_inner"]), float(s["Q"]), int(s["kick"]),
                           float(s["horizon"]))
         self.time = float(s["time"])

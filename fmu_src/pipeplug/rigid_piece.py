@@ -50,19 +50,22 @@ class AtRest(_Piece):
         super().__init__(t0, Q, origin)
         self.f1, self.f2 = f1, f2
 
-    def state(self, dt):
-        """``(U1, V1, U2, V2)`` at ``dt`` [s] after the origin (float or array)."""
+    def travel(self, dt):
+        """Displacements since the origin [m] and velocities [m/s] at ``dt`` [s] after it:
+        ``(d1, V1, d2, V2)`` (floats, or arrays for an array ``dt``)."""
         zero = 0.0 * dt
-        return self.U1 + zero, zero, self.U2 + zero, zero
+        return zero, zero, zero, zero
 
     def forces(self, U1):
         """Friction forces on the pipe ``(f1, f2)`` [N] when the pipe is at ``U1``."""
         zero = 0.0 * U1
         return self.f1 + zero, self.f2 + zero
 
-    def friction_work(self, U1, U2):
-        """Friction work [J] since the origin, with the bodies at ``U1``, ``U2``."""
-        return 0.0 * U1
+    def friction_work(self, d1, d2):
+        """Friction work [J] since the origin, outer and inner, after displacements ``d1``,
+        ``d2`` [m] of pipe and plug."""
+        zero = 0.0 * d1
+        return zero, zero
 
 
 class PlugSlides(_Piece):
@@ -73,17 +76,17 @@ class PlugSlides(_Piece):
         self.s2, self.f1, self.F2 = s2, f1, F2
         self.plug = Motion(self.U2, self.V2, s2 * F2 / M2)
 
-    def state(self, dt):
-        U2, V2 = self.plug.state(dt)
+    def travel(self, dt):
+        d2, V2 = self.plug.travel(dt)
         zero = 0.0 * dt
-        return self.U1 + zero, zero, U2, V2
+        return zero, zero, d2, V2
 
     def forces(self, U1):
         zero = 0.0 * U1
         return self.f1 + zero, -self.s2 * self.F2 + zero
 
-    def friction_work(self, U1, U2):
-        return self.F2 * self.s2 * (self.U2 - U2)
+    def friction_work(self, d1, d2):
+        return 0.0 * d1, -self.F2 * self.s2 * d2
 
     def find_event(self, horizon):
         # The plug moves with sign -s2 (the pipe is at rest).
@@ -102,11 +105,11 @@ class Together(_Piece):
         self.body = Motion(self.U1, self.V1, a0, kappa / Mj)
         self.plug_limit, self.M2 = plug_limit, M2   # plug_limit = F2/M2, or None (no plug)
 
-    def state(self, dt):
-        U1, V1 = self.body.state(dt)
+    def travel(self, dt):
+        d1, V1 = self.body.travel(dt)
         if self.plug_limit is None:
-            return U1, V1, 0.0 * U1, 0.0 * U1
-        return U1, V1, self.U2 + (U1 - self.U1), V1
+            return d1, V1, 0.0 * d1, 0.0 * d1
+        return d1, V1, d1, V1
 
     def forces(self, U1):
         f1 = self.force0 - self.kappa * U1
@@ -114,8 +117,8 @@ class Together(_Piece):
             return f1, 0.0 * U1
         return f1, -self.M2 * self.body.acceleration_at(U1)
 
-    def friction_work(self, U1, U2):
-        return self.outer.work(self.U1, U1, self.s1)
+    def friction_work(self, d1, d2):
+        return self.outer.work(self.U1, d1, self.s1), 0.0 * d1
 
     def find_event(self, horizon):
         body, s1 = self.body, self.s1
@@ -158,17 +161,16 @@ class BothSlide(_Piece):
         self.pipe = Motion(self.U1, self.V1, a0, kappa / M1)
         self.plug = Motion(self.U2, self.V2, s2 * F2 / M2)
 
-    def state(self, dt):
-        U1, V1 = self.pipe.state(dt)
-        U2, V2 = self.plug.state(dt)
-        return U1, V1, U2, V2
+    def travel(self, dt):
+        d1, V1 = self.pipe.travel(dt)
+        d2, V2 = self.plug.travel(dt)
+        return d1, V1, d2, V2
 
     def forces(self, U1):
         return self.force0 - self.kappa * U1, -self.s2 * self.F2 + 0.0 * U1
 
-    def friction_work(self, U1, U2):
-        outer = self.outer.work(self.U1, U1, self.s1)
-        return outer + self.F2 * self.s2 * ((U1 - self.U1) - (U2 - self.U2))
+    def friction_work(self, d1, d2):
+        return self.outer.work(self.U1, d1, self.s1), self.F2 * self.s2 * (d1 - d2)
 
     def find_event(self, horizon):
         pipe = self.pipe
@@ -194,7 +196,7 @@ class BothSlide(_Piece):
             return _INF
 
         def g(t):
-            return pipe.state(t)[1] - plug.state(t)[1]
+            return pipe.travel(t)[1] - plug.travel(t)[1]
 
         def dg(t):
             return pipe.acceleration_at(pipe.state(t)[0]) - plug.a0
