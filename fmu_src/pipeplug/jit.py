@@ -1,57 +1,79 @@
 """Optional compilation of the numeric kernels: numba when it imports, plain Python otherwise.
 
-Kernels are written once, as plain loops over float arrays, and decorated with :func:`jit`.
-With numba installed they are compiled on first use (``nopython`` mode, IEEE arithmetic: no
-fast-math, so the compiled and the Python path give the same numbers); without it, or with the
-environment variable ``PIPEPLUG_NO_JIT=1``, they run as ordinary Python.
+Kernels and their helpers are written once, as plain Python over floats and arrays. Helpers are
+marked with :func:`jitable`; a kernel is compiled by :func:`compiled` when a model first asks
+for it. Only then is numba imported (so a rigid model, or a host without numba, never imports
+it), the marked helpers are registered with numba (they stay plain functions for Python
+callers), and the kernel is compiled in ``nopython`` mode with IEEE arithmetic (no fast-math:
+the compiled and the Python path give the same numbers). Without numba, or with the
+environment variable ``PIPEPLUG_NO_JIT=1``, :func:`compiled` returns the plain function.
 
 Compiled code is cached on disk so that a new process (for example each run of the FMU, whose
-files an importer unpacks into a fresh temporary folder) reuses it. numba's own cache is keyed
-by the source file's folder, which changes with every unpacking; the locator below keys it by
-the content of the compiled sources instead, under ``PIPEPLUG_CACHE_DIR`` or the user's cache
-folder (``~/.cache/pipeplug``, ``%LOCALAPPDATA%\\pipeplug``). If that folder cannot be written,
-numba's default locations are used.
+files an importer unpacks into a fresh temporary folder and may delete afterwards) reuses it.
+numba's own cache is keyed by the source file's folder and needs the file to exist; the
+locator below keys it by the content of the package's sources, read when this module is
+imported, under ``PIPEPLUG_CACHE_DIR`` or the user's cache folder (``~/.cache/pipeplug``,
+``%LOCALAPPDATA%\\pipeplug``). If that folder cannot be written, numba's default locations are
+used.
 """
 from __future__ import annotations
 
-import functools
 import hashlib
 import os
 import sys
 from pathlib import Path
 
-__all__ = ["jit", "ENABLED", "NO_JIT_ENV", "CACHE_DIR_ENV", "cache_folder"]
+__all__ = ["jitable", "compiled", "enabled", "NO_JIT_ENV", "CACHE_DIR_ENV", "cache_folder"]
 
 NO_JIT_ENV = "PIPEPLUG_NO_JIT"
 CACHE_DIR_ENV = "PIPEPLUG_CACHE_DIR"
 _PACKAGE = __name__.rpartition(".")[0] or "pipeplug"
+_HELPERS: list = []                 # functions marked jitable, registered at the first compile
+_COMPILED: dict = {}                # plain kernel -> its compiled dispatcher
+_numba = None                       # the numba module once imported; False when unavailable
 
 
-def _import_numba():
-    """The numba module, or None when it is absent, broken or switched off."""
-    if os.environ.get(NO_JIT_ENV, "").strip() not in ("", "0"):
-        return None
-    try:
-        import numba
-    except Exception:  # an absent or broken numba must never stop the pure path
-        return None
-    return numba
-
-
-@functools.lru_cache(maxsize=None)
-def _sources_key() -> str:
-    """A digest of the package's compiled sources: this module and every module using ``@jit``.
-
-    Kernels call helpers from other modules; numba would not notice a change there, so all of
-    them are part of the key (an edit gives a fresh cache folder).
-    """
-    digest = hashlib.sha256(_PACKAGE.encode())   # cached code refers to modules by name
-    for path in sorted(Path(__file__).parent.glob("*.py")):
-        content = path.read_bytes()
-        if path.name == Path(__file__).name or b"@jit" in content:
-            digest.update(path.name.encode())
-            digest.update(content)
+def _digest_sources() -> str:
+    """A digest of every source of the package (kernels call helpers from other modules; numba
+    would not notice a change there). Cached code refers to modules by name: the package's
+    import name is part of the key."""
+    digest = hashlib.sha256(_PACKAGE.encode())
+    root = Path(__file__).resolve().parent
+    for path in sorted(root.rglob("*.py")):
+        digest.update(path.relative_to(root).as_posix().encode())
+        digest.update(path.read_bytes())
     return digest.hexdigest()[:20]
+
+
+_SOURCES_KEY = _digest_sources()    # now, while the files are surely there
+
+
+def jitable(func):
+    """Mark ``func`` as callable from compiled kernels; it is returned unchanged."""
+    _HELPERS.append(func)
+    if _numba:                      # numba already set up: register now
+        from numba.extending import register_jitable
+        register_jitable(func)
+    return func
+
+
+def enabled() -> bool:
+    """True when kernels are compiled (numba importable and not switched off); imports numba."""
+    return _load_numba() is not None
+
+
+def compiled(kernel):
+    """The compiled form of ``kernel`` (cached on disk) when numba is enabled, else ``kernel``.
+
+    ``error_model="numpy"`` drops the zero-division checks (the kernels never divide by
+    zero); no fast-math, so results equal those of the Python path.
+    """
+    numba = _load_numba()
+    if numba is None:
+        return kernel
+    if kernel not in _COMPILED:
+        _COMPILED[kernel] = numba.njit(cache=True, nogil=True, error_model="numpy")(kernel)
+    return _COMPILED[kernel]
 
 
 def cache_folder() -> Path:
@@ -65,22 +87,39 @@ def cache_folder() -> Path:
         else:
             base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
         root = Path(base) / "pipeplug"
-    return Path(root) / "numba" / _sources_key()
+    return Path(root) / "numba" / _SOURCES_KEY
 
 
-def _install_cache_locator(numba) -> None:
+def _load_numba():
+    """numba, set up for this package, or None when absent, broken or switched off."""
+    global _numba
+    if _numba is None:
+        _numba = False
+        if os.environ.get(NO_JIT_ENV, "").strip() in ("", "0"):
+            try:
+                import numba
+                from numba.extending import register_jitable
+            except Exception:  # an absent or broken numba must never stop the pure path
+                return None
+            _install_cache_locator()
+            for helper in _HELPERS:
+                register_jitable(helper)
+            _numba = numba
+    return _numba or None
+
+
+def _install_cache_locator() -> None:
     """Put compiled kernels of this package in :func:`cache_folder` (best effort)."""
     try:
         from numba.core import caching
     except Exception:
         return
-    base = getattr(caching, "_SourceFileBackedLocatorMixin", None)
     impl = getattr(caching, "CacheImpl", None) or getattr(caching, "_CacheImpl", None)
-    if base is None or impl is None:
+    if impl is None or not hasattr(caching, "_CacheLocator"):
         return
 
-    class PipeplugCacheLocator(base, caching._CacheLocator):
-        """numba cache locator keyed by source content, not by the source's folder."""
+    class PipeplugCacheLocator(caching._CacheLocator):
+        """numba cache locator keyed by source content; the source file need not exist."""
 
         def __init__(self, py_func, py_file):
             self._py_file = py_file
@@ -91,32 +130,23 @@ def _install_cache_locator(numba) -> None:
             return self._cache_path
 
         def get_source_stamp(self):
-            # Unpacking an FMU gives its files new modification times; the content decides.
-            return _sources_key()
+            return _SOURCES_KEY
+
+        def get_disambiguator(self):
+            return str(self._lineno)
 
         @classmethod
         def from_function(cls, py_func, py_file):
-            if getattr(py_func, "__module__", "").partition(".")[0] != _PACKAGE:
+            module = getattr(py_func, "__module__", "") or ""
+            if not module.startswith(_PACKAGE + "."):
                 return None
-            return super().from_function(py_func, py_file)
+            self = cls(py_func, py_file)
+            try:
+                self.ensure_cache_path()
+            except OSError:
+                return None
+            return self
 
     locators = impl._locator_classes
     if not any(c.__name__ == PipeplugCacheLocator.__name__ for c in locators):
         locators.insert(0, PipeplugCacheLocator)
-
-
-_numba = _import_numba()
-ENABLED: bool = _numba is not None  #: True when kernels are compiled
-if ENABLED:
-    _install_cache_locator(_numba)
-
-
-def jit(func):
-    """Compile ``func`` with ``numba.njit`` (cached) when numba is enabled, else return it.
-
-    ``error_model="numpy"`` drops the zero-division checks (the kernels never divide by
-    zero); no fast-math, so results equal those of the Python path.
-    """
-    if _numba is None:
-        return func
-    return _numba.njit(cache=True, nogil=True, error_model="numpy")(func)

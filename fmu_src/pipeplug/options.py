@@ -6,8 +6,8 @@ model is built; they choose which submodels exist, never a branch in a time loop
 """
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import Mapping
 
 from .params import ParameterError
 
@@ -32,7 +32,7 @@ class Options:
     elastic: bool = False
 
     @classmethod
-    def from_mapping(cls, given: Mapping[str, object] | None = None) -> "Options":
+    def from_mapping(cls, given: Mapping[str, object] | None = None) -> Options:
         """Validate ``given`` against the table and fill in defaults.
 
         Raises

@@ -103,16 +103,16 @@ class _Derived:
         """The parameter names in table order."""
         return tuple(f.name for f in fields(cls))
 
-    def with_(self, **changes: float) -> "Params":
+    def with_(self, **changes: float) -> Params:
         """A copy with some values changed (unknown names raise :class:`ParameterError`)."""
         return replace(self, **_checked_names(changes))
 
     @classmethod
-    def from_mapping(cls, values) -> "Params":
+    def from_mapping(cls, values) -> Params:
         """Parameters from a mapping of contract names; missing ones take their defaults."""
         return cls(**_checked_names(values))
 
-    def validate(self, active: frozenset[str] = frozenset()) -> "Params":
+    def validate(self, active: frozenset[str] = frozenset()) -> Params:
         """Check every active parameter against its range.
 
         Parameters

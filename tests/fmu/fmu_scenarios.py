@@ -3,7 +3,7 @@
     python fmu_scenarios.py SCENARIO FMU_DIR '{"json": "keyword arguments"}'
 
 The last stdout line is ``RESULT <json>``: the scenario's result, the collected log and the
-file the FMU's private copy of the core (``pipeplug_fmu_core``) was loaded from. A process that
+file the FMU's private copy of the core (``pipeplug_fmu_<tag>.pipeplug``) was loaded from. A process that
 crashes prints no result, so the test fails.
 """
 from __future__ import annotations
@@ -181,7 +181,9 @@ def main() -> None:
         result = getattr(fmu_cosim, name)(fmu_dir, **kwargs)
     else:
         result = globals()[name](fmu_dir, **kwargs)
-    core = sys.modules.get("pipeplug_fmu_core")   # the FMU's private copy of the core
+    cores = [m for name, m in sys.modules.items()        # the FMU's private copy of the core
+             if name.startswith("pipeplug_fmu_") and name.endswith(".pipeplug")]
+    core = cores[0] if len(cores) == 1 else None
     result.update(log=LOG, core_file=getattr(core, "__file__", None))
     sys.stdout.write("\nRESULT " + json.dumps(result) + "\n")
     sys.stdout.flush()

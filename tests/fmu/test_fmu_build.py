@@ -7,8 +7,13 @@ import xml.etree.ElementTree as ET
 import zipfile
 
 import pytest
-from fmu_helpers import (CONTRACT_OPTIONS, CONTRACT_OUTPUTS, CONTRACT_PARAMETERS,
-                         env_without_site_hooks, run_scenario)
+from fmu_helpers import (
+    CONTRACT_OPTIONS,
+    CONTRACT_OUTPUTS,
+    CONTRACT_PARAMETERS,
+    env_without_site_hooks,
+    run_scenario,
+)
 
 #: SI base-unit exponents of the contract's units.
 SI = {"m": {"m": 1}, "s": {"s": 1}, "m/s": {"m": 1, "s": -1}, "kg/m3": {"kg": 1, "m": -3},
@@ -64,7 +69,7 @@ def test_every_variable_has_a_description(variables):
 def test_units_are_si_and_defined(md, variables):
     defined = {u.get("name"): {k: int(v) for k, v in u.find("BaseUnit").attrib.items()}
                for u in md.find("UnitDefinitions")}
-    for name, (var, typ) in variables.items():
+    for name, (_, typ) in variables.items():
         if typ.tag == "Real":
             unit = typ.get("unit")
             assert unit in defined, f"{name}: unit {unit} not defined"
@@ -105,13 +110,20 @@ def test_option_per_contract(variables, name):
     assert typ.tag == kind and typ.get("start") == default
 
 
-def test_core_package_shipped_without_caches(fmu_file):
-    names = zipfile.ZipFile(fmu_file).namelist()
-    core = [n for n in names if n.startswith("resources/pipeplug/")]
-    assert "resources/pipeplug/__init__.py" in core
-    assert "resources/pipeplug/rigid_exact.py" in core
-    assert "resources/pipeplug_fmi.py" in names
+def test_shipped_under_names_of_this_build_without_caches(fmu_file):
+    """The slave script, the adapter and the core, all under the build's content digest."""
+    fmu = zipfile.ZipFile(fmu_file)
+    names = fmu.namelist()
+    module = fmu.read("resources/slavemodule.txt").decode().strip()
+    tag = module.removeprefix("pipeplug_slave_")
+    assert module != tag and len(tag) == 12 and int(tag, 16) >= 0
+    package = f"resources/pipeplug_fmu_{tag}/"
+    for name in (f"resources/{module}.py", package + "slave.py", package + "fmi.py",
+                 package + "exit_guard.py", package + "pipeplug/__init__.py",
+                 package + "pipeplug/rigid/exact.py", package + "pipeplug/elastic/kernels.py"):
+        assert name in names, name
     assert not [n for n in names if "__pycache__" in n or n.endswith(".pyc")]
+    assert not [n for n in names if n.startswith("resources/pipeplug/")]    # no shared names
     assert "binaries/linux64/PipePlug.so" in names and "binaries/win64/PipePlug.dll" in names
 
 

@@ -1,0 +1,1 @@
+"""Model III: elastic pipe and plug rods (grid, cells, kernels, model)."""

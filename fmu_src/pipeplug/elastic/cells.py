@@ -1,0 +1,147 @@
+"""One internal step of the elastic rods, cell by cell (helpers the kernels inline).
+
+Grid (see :mod:`pipeplug.elastic.model`): a rod of ``n`` cells of length ``dx`` carries the velocity
+``v[j]`` of cell ``j`` (its centre) and the axial force ``N[f]`` (tension positive) at face
+``f = 0..n``; the end faces hold the boundary forces (``N[0] = -Q`` at the struck end, 0 at a
+free end). One step of length ``dt`` is
+
+1. kick: trial velocity ``w = v + (dt/m) (N[j+1] - N[j])`` (``m`` the cell mass);
+2. friction: the exact nodal Coulomb projection of the trial velocities
+   (:mod:`pipeplug.contact.coulomb`, the rigid models' rules), with impulse limits
+   ``c = dt * tau * P * (contact length)``;
+3. drift: ``N[f] += (E S / dx) dt (v[f] - v[f-1])`` at the inner faces.
+
+Friction work per contact and step is ``-I (v_old + v_new) / 2`` (impulse times mean velocity),
+which makes the discrete energy balance exact (see :meth:`ElasticModel.energies`). It is
+negative only when a step reverses a node's relative velocity; that part is kept apart in
+``w_neg`` so that the dissipated work never decreases.
+"""
+from __future__ import annotations
+
+from ..contact import coulomb
+from ..jit import jitable
+
+__all__ = ["free_cells", "soil_cells", "plug_cells", "plug_soil_cells", "drift", "track",
+           "soil_start"]
+
+# The projections are the rigid models' own (one source); compiled kernels call them too.
+one_contact = jitable(coulomb.one_contact)
+pair_contact = jitable(coulomb.pair_contact)
+two_contacts = jitable(coulomb.two_contacts)
+jitable(coulomb.pattern)
+jitable(coulomb._clip)
+
+
+@jitable
+def free_cells(v, N, lo, hi, a):
+    """Kick cells ``lo..hi-1`` without friction; ``a = dt/m`` [s/kg]."""
+    for j in range(lo, hi):
+        v[j] += a * (N[j + 1] - N[j])
+
+
+@jitable
+def soil_cells(v, N, lo, hi, a, m, c, start):
+    """Kick cells ``lo..hi-1`` touching only the soil, then project their velocities.
+
+    The contact of cell ``j`` covers the part of the cell beyond ``start`` (in cells from the
+    struck end): weight ``clip(j + 1 - start, 0, 1)`` of the full-cell limit ``c`` [N s].
+
+    Returns
+    -------
+    impulse, work, w_neg : float
+        Total friction impulse on the rod along +x [N s]; dissipated work [J] (>= 0) and the
+        negative part from reversing steps [J].
+    """
+    impulse = 0.0
+    work = 0.0
+    w_neg = 0.0
+    for j in range(lo, hi):
+        v_old = v[j]
+        limit = c * min(max(j + 1.0 - start, 0.0), 1.0)
+        x, f = one_contact(m, v_old + a * (N[j + 1] - N[j]), limit, 0.0)
+        v[j] = x
+        impulse += f
+        work, w_neg = _book(-0.5 * f * (v_old + x), work, w_neg)
+    return impulse, work, w_neg
+
+
+@jitable
+def plug_cells(v1, N1, v2, N2, j0, a1, a2, m1, m2, c2):
+    """Kick the pipe cells ``j0..`` and the plug cells coupled to them, then project each pair.
+
+    Pipe cell ``j0 + k`` and plug cell ``k`` share a reference section. Returns the impulse of
+    the plug on the pipe [N s], the dissipated work and its negative part [J].
+    """
+    impulse = 0.0
+    work = 0.0
+    w_neg = 0.0
+    for k in range(v2.shape[0]):
+        j = j0 + k
+        p_old = v1[j]
+        q_old = v2[k]
+        x1, x2, f2 = pair_contact(m1, m2, p_old + a1 * (N1[j + 1] - N1[j]),
+                                        q_old + a2 * (N2[k + 1] - N2[k]), c2)
+        v1[j] = x1
+        v2[k] = x2
+        impulse += f2
+        work, w_neg = _book(-0.5 * f2 * (p_old - q_old + x1 - x2), work, w_neg)
+    return impulse, work, w_neg
+
+
+@jitable
+def plug_soil_cells(v1, N1, v2, N2, j0, a1, a2, m1, m2, c1, c2, start):
+    """As :func:`plug_cells`, with the soil contact too (weights as in :func:`soil_cells`).
+
+    Returns the impulses of the soil and of the plug on the pipe [N s], the dissipated work
+    and its negative part [J].
+    """
+    outer = 0.0
+    inner = 0.0
+    work = 0.0
+    w_neg = 0.0
+    for k in range(v2.shape[0]):
+        j = j0 + k
+        p_old = v1[j]
+        q_old = v2[k]
+        limit = c1 * min(max(j + 1.0 - start, 0.0), 1.0)
+        x1, x2, f1, f2, _, _ = two_contacts(m1, m2, p_old + a1 * (N1[j + 1] - N1[j]),
+                                            q_old + a2 * (N2[k + 1] - N2[k]), limit, c2, 0.0)
+        v1[j] = x1
+        v2[k] = x2
+        outer += f1
+        inner += f2
+        work, w_neg = _book(-0.5 * f1 * (p_old + x1), work, w_neg)
+        work, w_neg = _book(-0.5 * f2 * (p_old - q_old + x1 - x2), work, w_neg)
+    return outer, inner, work, w_neg
+
+
+@jitable
+def drift(v, N, b):
+    """Update the inner-face forces from the new velocities; ``b = E S dt / dx`` [N s/m]."""
+    for f in range(1, v.shape[0]):
+        N[f] += b * (v[f] - v[f - 1])
+
+
+@jitable
+def track(u, cells, v, dt):
+    """Advance the displacements ``u[i]`` of the tracked cells ``cells[i]`` by ``dt v``."""
+    for i in range(cells.shape[0]):
+        u[i] += dt * v[cells[i]]
+
+
+@jitable
+def soil_start(u_front, n_cells, dx):
+    """Start of the penetrated contact, in cells from the struck end (contact growth).
+
+    The contact covers reference x >= L1 - Lc with Lc = min(max(s, 0), L1) and s the front
+    end's displacement [m]; ``L1 = n_cells * dx``.
+    """
+    return n_cells - min(max(u_front / dx, 0.0), float(n_cells))
+
+
+@jitable
+def _book(d, work, w_neg):
+    """Add one contact's friction work ``d`` [J] to the dissipated or the reversing part."""
+    if d >= 0.0:
+        return work + d, w_neg
+    return work, w_neg + d

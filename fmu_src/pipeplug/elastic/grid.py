@@ -1,0 +1,81 @@
+"""The grid of the elastic model: cells, constants, monitored sections, internal step.
+
+The pipe occupies reference x in [0, L1] and is cut into ``n1 = L1/dx`` cells; the plug occupies
+[L1 - L2, L1] and is cut into ``n2 = L2/dx`` cells, so that plug cell ``k`` and pipe cell
+``n1 - n2 + k`` cover the same reference section (the coupling at equal reference coordinate).
+Every cell carries the full mass ``rho S dx`` and the friction of its length ``dx``.
+"""
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from ..params import ParameterError
+from .kernels import C1, C2, DX, K1, K2, M1, M2, N_COEF
+
+__all__ = ["Section", "Grid", "build_grid", "cell_count"]
+
+_WHOLE = 1e-9  # relative tolerance of "a whole number of cells"
+
+
+class Section(NamedTuple):
+    """Linear interpolation between two cell centres: value = (1-w) f[a] + w f[b]."""
+
+    a: int
+    b: int
+    w: float
+    cell: int  #: the cell containing the section (the node whose modes are reported)
+
+
+class Grid(NamedTuple):
+    """Everything the elastic model derives once from the parameters."""
+
+    n1: int              #: pipe cells
+    n2: int              #: plug cells (0: no plug simulated)
+    soil: bool           #: soil friction simulated (tau1 > 0)
+    coef: np.ndarray     #: kernel constants (see pipeplug.elastic.kernels)
+    h_max: float         #: largest internal step courant*dx/c_fastest [s]
+    pipe: Section        #: monitored pipe section
+    plug: Section        #: monitored plug section (cells of the plug)
+    cells1: np.ndarray   #: tracked pipe cells: [front, pipe.a, pipe.b]
+    cells2: np.ndarray   #: tracked plug cells: [plug.a, plug.b], or empty
+
+
+def cell_count(length: float, dx: float) -> int:
+    """Number of cells of ``length`` [m], which must be a whole multiple of ``dx`` [m]."""
+    ratio = length / dx
+    count = round(ratio)
+    if abs(ratio - count) > _WHOLE * max(1.0, ratio):
+        raise ParameterError("dx", dx, "L1 and L2 must be whole multiples of dx")
+    return int(count)
+
+
+def _section(x: float, n: int, dx: float) -> Section:
+    """The section at ``x`` [m] from a rod's rear end: nearest inside the rod if beyond it."""
+    s = min(max(x / dx - 0.5, 0.0), n - 1.0)  # in cell-centre units, clamped to the rod
+    a = min(int(math.floor(s)), max(n - 2, 0))
+    w = s - a
+    cell = min(max(int(math.floor(x / dx + _WHOLE)), 0), n - 1)
+    return Section(a, min(a + 1, n - 1), w, cell)
+
+
+def build_grid(params) -> Grid:
+    """Derive the grid from validated parameters (raises ParameterError for a bad ``dx``)."""
+    p = params
+    dx = p.dx
+    n1 = cell_count(p.L1, dx)
+    n2 = cell_count(p.L2, dx) if p.has_plug else 0
+    coef = np.zeros(N_COEF)
+    coef[M1], coef[K1] = p.rho1 * p.S1 * dx, p.E1 * p.S1 / dx
+    coef[C1], coef[DX] = p.P1 * p.tau1 * dx, dx
+    speed = p.c1
+    if n2:
+        coef[M2], coef[K2], coef[C2] = p.rho2 * p.S2 * dx, p.E2 * p.S2 / dx, p.P2 * p.tau2 * dx
+        speed = max(speed, p.c2)
+    pipe = _section(p.x_monitor, n1, dx)
+    plug = _section(p.x_monitor - (p.L1 - p.L2), n2, dx) if n2 else Section(0, 0, 0.0, 0)
+    cells1 = np.array([n1 - 1, pipe.a, pipe.b], dtype=np.int64)
+    cells2 = np.array([plug.a, plug.b] if n2 else [], dtype=np.int64)
+    return Grid(n1, n2, p.tau1 > 0.0, coef, p.courant * dx / speed, pipe, plug, cells1, cells2)

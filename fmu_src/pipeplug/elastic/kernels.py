@@ -1,0 +1,164 @@
+"""The time loops of the elastic model: one kernel per combination of enabled effects.
+
+Every kernel advances the rods by ``n`` internal steps of length ``dt`` [s] under a constant
+struck-end force ``q`` [N] (see :mod:`pipeplug.elastic.cells` for one step). The model picks
+its kernel once, when it is built (:data:`KERNELS`): a switched-off effect is absent from the
+loop, not skipped by an ``if`` in it. All kernels take the same arguments::
+
+    kernel(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc)
+
+``coef`` holds the constants (indices below), ``v1``/``N1`` and ``v2``/``N2`` the pipe and plug
+fields (without a plug ``v2`` is empty and ``N2`` one unused face), ``u1``/``u2`` the displacements [m] of the
+tracked cells ``cells1``/``cells2`` (``cells1[0]`` is the pipe's front cell), and ``acc`` the
+accumulated works and the last step's friction forces (indices below).
+"""
+from __future__ import annotations
+
+from ..jit import jitable
+from .cells import drift, free_cells, plug_cells, plug_soil_cells, soil_cells, soil_start, track
+
+__all__ = ["KERNELS"]
+
+# coef: cell mass [kg] and cell stiffness E S / dx [N/m] of pipe and plug, friction limits
+# per full cell P tau dx [N] of the soil and plug contacts, grid step [m].
+M1, K1, M2, K2, C1, C2, DX = range(7)
+N_COEF = 7
+# acc: W_input [J], W_friction [J], negative friction work of reversing steps [J], last
+# step's soil and plug friction forces on the pipe along +x [N].
+W_IN, W_FR, W_NEG, F_OUT, F_IN = range(5)
+N_ACC = 5
+
+
+@jitable
+def _finish_step(q, dt, v_first_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc):
+    """Add the input work of the step [J]; then drift the forces and displacements."""
+    acc[W_IN] += 0.5 * q * dt * (v_first_old + v1[0])
+    drift(v1, N1, coef[K1] * dt)
+    drift(v2, N2, coef[K2] * dt)
+    track(u1, cells1, v1, dt)
+    track(u2, cells2, v2, dt)
+
+
+@jitable
+def _add_work(acc, work, w_neg):
+    """Accumulate the friction work of a step: dissipated [J] and reversing part [J]."""
+    acc[W_FR] += work
+    acc[W_NEG] += w_neg
+
+
+@jitable
+def _soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, start):
+    """One step of the pipe on the soil; returns the soil's impulse on the pipe [N s]."""
+    v_old = v1[0]
+    outer, work, w_neg = soil_cells(v1, N1, 0, v1.shape[0], dt / coef[M1], coef[M1],
+                                    dt * coef[C1], start)
+    _add_work(acc, work, w_neg)
+    _finish_step(q, dt, v_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc)
+    return outer
+
+
+@jitable
+def _plug_soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, start):
+    """One step of pipe, plug and soil; returns the soil's and plug's impulses [N s]."""
+    v_old = v1[0]
+    j0 = v1.shape[0] - v2.shape[0]
+    a1 = dt / coef[M1]
+    c1 = dt * coef[C1]
+    outer, work, w_neg = soil_cells(v1, N1, 0, j0, a1, coef[M1], c1, start)
+    _add_work(acc, work, w_neg)
+    outer2, inner, work, w_neg = plug_soil_cells(v1, N1, v2, N2, j0, a1, dt / coef[M2],
+                                                 coef[M1], coef[M2], c1, dt * coef[C2], start)
+    _add_work(acc, work, w_neg)
+    _finish_step(q, dt, v_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc)
+    return outer + outer2, inner
+
+
+@jitable
+def run_pipe(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
+    """Pipe alone, no friction."""
+    N1[0] = -q
+    for _ in range(n):
+        v_old = v1[0]
+        free_cells(v1, N1, 0, v1.shape[0], dt / coef[M1])
+        _finish_step(q, dt, v_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc)
+    acc[F_OUT] = 0.0
+    acc[F_IN] = 0.0
+
+
+@jitable
+def run_pipe_soil(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
+    """Pipe on the soil over its whole length."""
+    N1[0] = -q
+    outer = 0.0
+    for _ in range(n):
+        outer = _soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, 0.0)
+    acc[F_OUT] = outer / dt
+    acc[F_IN] = 0.0
+
+
+@jitable
+def run_pipe_soil_growth(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
+    """Pipe on the soil over the penetrated length."""
+    N1[0] = -q
+    outer = 0.0
+    for _ in range(n):
+        start = soil_start(u1[0], v1.shape[0], coef[DX])
+        outer = _soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, start)
+    acc[F_OUT] = outer / dt
+    acc[F_IN] = 0.0
+
+
+@jitable
+def run_pipe_plug(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
+    """Pipe and plug, no soil friction."""
+    N1[0] = -q
+    j0 = v1.shape[0] - v2.shape[0]
+    inner = 0.0
+    for _ in range(n):
+        v_old = v1[0]
+        free_cells(v1, N1, 0, j0, dt / coef[M1])
+        inner, work, w_neg = plug_cells(v1, N1, v2, N2, j0, dt / coef[M1], dt / coef[M2],
+                                        coef[M1], coef[M2], dt * coef[C2])
+        _add_work(acc, work, w_neg)
+        _finish_step(q, dt, v_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc)
+    acc[F_OUT] = 0.0
+    acc[F_IN] = inner / dt
+
+
+@jitable
+def run_pipe_plug_soil(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
+    """Pipe, plug and soil over the whole pipe length."""
+    N1[0] = -q
+    outer = inner = 0.0
+    for _ in range(n):
+        outer, inner = _plug_soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2,
+                                       acc, 0.0)
+    acc[F_OUT] = outer / dt
+    acc[F_IN] = inner / dt
+
+
+@jitable
+def run_pipe_plug_soil_growth(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
+    """Pipe, plug and soil over the penetrated length."""
+    N1[0] = -q
+    outer = inner = 0.0
+    for _ in range(n):
+        start = soil_start(u1[0], v1.shape[0], coef[DX])
+        outer, inner = _plug_soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2,
+                                       acc, start)
+    acc[F_OUT] = outer / dt
+    acc[F_IN] = inner / dt
+
+
+#: (plug, soil, growth) -> kernel
+KERNELS = {
+    (False, False, False): run_pipe,
+    (False, False, True): run_pipe,
+    (False, True, False): run_pipe_soil,
+    (False, True, True): run_pipe_soil_growth,
+    (True, False, False): run_pipe_plug,
+    (True, False, True): run_pipe_plug,
+    (True, True, False): run_pipe_plug_soil,
+    (True, True, True): run_pipe_plug_soil_growth,
+}
+

@@ -1,0 +1,50 @@
+"""Build the model that validated parameters and options call for (the only place choosing one).
+
+Only the chosen variant's modules are imported: a rigid model never imports the elastic
+kernels (nor numba).
+"""
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+from .interface import Model
+from .options import Options
+from .params import Params
+
+__all__ = ["build_model"]
+
+
+def build_model(params: Params | Mapping[str, float] | None = None,
+                options: Options | Mapping[str, object] | None = None) -> Model:
+    """Validate parameters and options and build the model they call for.
+
+    Parameters
+    ----------
+    params : Params or mapping, optional
+        Parameter values by contract name (SI); missing ones take their defaults.
+    options : Options or mapping, optional
+        ``solver`` ("exact" | "fd"), ``contact_growth`` (bool), ``elastic`` (bool).
+
+    Returns
+    -------
+    Model
+        A fresh model at t = 0, at rest.
+
+    Raises
+    ------
+    ParameterError
+        Naming the offending parameter or option, its value and the allowed set.
+    """
+    if not isinstance(options, Options):
+        options = Options.from_mapping(options)
+    if not isinstance(params, Params):
+        params = Params.from_mapping(params or {})
+    params.validate(options.active_groups())
+    if options.elastic:
+        from .elastic.model import ElasticModel
+        return ElasticModel(params, options)
+    if options.solver == "fd":
+        from .rigid.fd import RigidFd
+        return RigidFd(params, options)
+    from .rigid.exact import RigidExact
+    return RigidExact(params, options)

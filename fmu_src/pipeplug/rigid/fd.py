@@ -1,0 +1,116 @@
+"""The paper's explicit finite-difference scheme for the rigid models (section 2), corrected.
+
+Scheme (ERRATA B1: ``U^{n-1}`` on the right-hand side), step ``tau``::
+
+    U1^{n+1} - 2 U1^n + U1^{n-1} = tau^2 (Q^n + f1 + f2) / M1
+    U2^{n+1} - 2 U2^n + U2^{n-1} = -tau^2 f2 / M2
+
+written with the step velocities ``v^{n+1/2} = (U^{n+1} - U^n) / tau``. The friction terms come
+from the paper's "fictitious velocity" test, generalised (ERRATA B4) to solving both contacts
+jointly at the impulse level (:func:`pipeplug.contact.coulomb.two_contacts`): the frictionless
+trial velocities are projected with impulse limits ``tau P1 Lc(U1^n) tau1`` and
+``tau P2 L2 tau2``; a contact whose trial relative velocity cannot overcome its limit sticks
+(zero relative velocity, passive friction). Model II evaluates the contact length at ``U1^n``.
+
+First order in ``tau`` where the friction switches; exact between switches for model I.
+Energy: ``W_input - W_friction - KE = sum M dv^2 / 2 >= 0`` (the scheme's numerical
+dissipation, O(tau)).
+"""
+from __future__ import annotations
+
+import math
+
+from ..contact.coulomb import one_contact, two_contacts
+from ..contact.outer import outer_contact_for
+from ..interface import ModelBase, Outputs
+
+__all__ = ["RigidFd", "internal_steps"]
+
+_STATE_KEYS = ("time", "U1", "V1", "U2", "V2", "W_in", "W_fr", "f1", "f2", "s1", "s2", "p_max")
+# Velocities carry round-off of the largest momentum the run has seen: a trial momentum within
+# this share of it from a friction limit sticks (else a body whose load equals its limit
+# slides on forever at 1e-13 m/s after a grazing stop).
+_ROUND_OFF = 1e-12
+
+
+def internal_steps(h: float, h_max: float) -> int:
+    """The contract's number of equal internal steps: ``ceil(h / h_max - 1e-9)``, at least 1."""
+    return max(1, math.ceil(h / h_max - 1e-9))
+
+
+class RigidFd(ModelBase):
+    """Rigid pipe (and plug) by the paper's explicit scheme with internal steps <= ``dt``.
+
+    Parameters
+    ----------
+    params : Params
+        Validated parameters (``dt`` is the largest internal step [s]).
+    options : Options
+        ``contact_growth`` selects model II.
+    """
+
+    def __init__(self, params, options):
+        self.M1, self.M2, self.F2 = params.M1, params.M2, params.F2
+        self.dt_max = params.dt
+        self.outer = outer_contact_for(params.P1, params.L1, params.tau1, options.contact_growth)
+        self._step = self._step_pair if params.has_plug else self._step_alone
+        self.time = 0.0
+        self._s = dict.fromkeys(_STATE_KEYS, 0.0)
+        self._s["s1"] = self._s["s2"] = 0
+
+    def advance(self, q: float, h: float) -> None:
+        """Advance by ``h`` [s] under a constant struck-end force ``q`` [N]."""
+        q, h = float(q), float(h)
+        n = internal_steps(h, self.dt_max)
+        tau = h / n
+        s = self._s
+        for _ in range(n):
+            self._step(s, q, tau)
+        self.time += h
+        s["time"] = self.time
+
+    def _step_pair(self, s: dict, q: float, tau: float) -> None:
+        """One step of pipe and plug."""
+        c1 = tau * self.outer.limit(s["U1"])
+        v1, v2, p1, p2, s1, s2 = two_contacts(
+            self.M1, self.M2, s["V1"] + tau * q / self.M1, s["V2"], c1, tau * self.F2,
+            _ROUND_OFF * s["p_max"])
+        self._commit(s, q, tau, v1, v2, p1, p2, s1, s2)
+
+    def _step_alone(self, s: dict, q: float, tau: float) -> None:
+        """One step of the pipe without a plug."""
+        c1 = tau * self.outer.limit(s["U1"])
+        v1, p1 = one_contact(self.M1, s["V1"] + tau * q / self.M1, c1,
+                                   _ROUND_OFF * s["p_max"])
+        self._commit(s, q, tau, v1, 0.0, p1, 0.0, (v1 > 0.0) - (v1 < 0.0), 0)
+
+    def _commit(self, s, q, tau, v1, v2, p1, p2, s1, s2) -> None:
+        """Store the new step velocities, displacements, works and friction forces."""
+        s["p_max"] = max(s["p_max"], self.M1 * abs(v1) + self.M2 * abs(v2))
+        s["U1"] += tau * v1
+        s["U2"] += tau * v2
+        s["V1"], s["V2"] = v1, v2
+        s["W_in"] += q * tau * v1
+        s["W_fr"] -= p1 * v1 + p2 * (v1 - v2)
+        s["f1"], s["f2"], s["s1"], s["s2"] = p1 / tau, p2 / tau, s1, s2
+
+    def outputs(self) -> Outputs:
+        """The contract's outputs (velocities: the last step's (U^{n+1} - U^n)/tau)."""
+        s = self._s
+        return Outputs(s["V1"], s["V2"], s["U1"], s["U2"], s["f1"], s["f2"], s["W_in"],
+                       s["W_fr"], int(s["s1"]), int(s["s2"]))
+
+    def energies(self) -> tuple[float, float, float]:
+        """Kinetic energy of the last step velocities [J]; no elastic or reversing work."""
+        s = self._s
+        return 0.5 * (self.M1 * s["V1"] ** 2 + self.M2 * s["V2"] ** 2), 0.0, 0.0
+
+    def get_state(self) -> dict:
+        """A copy of the whole state."""
+        return dict(self._s)
+
+    def set_state(self, state: dict) -> None:
+        """Restore a state from :meth:`get_state`."""
+        self._s = {k: state[k] for k in _STATE_KEYS}
+        self._s["s1"], self._s["s2"] = int(state["s1"]), int(state["s2"])
+        self.time = float(state["time"])

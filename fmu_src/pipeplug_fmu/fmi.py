@@ -1,0 +1,86 @@
+"""Tables and helpers of the PipePlug FMU's interface, shipped beside the slave.
+
+The input, the unit definitions, the default experiment, the wording of refusals and the
+decoration of ``modelDescription.xml`` that pythonfmu 0.7 cannot write itself
+(``<UnitDefinitions>``, ``unit``, ``min``, ``max``). Output, parameter and option rows come from
+the core's tables (:data:`pipeplug.OUTPUTS`, :data:`pipeplug.PARAMETERS`,
+:data:`pipeplug.OPTIONS`), passed in by the caller: neither pythonfmu nor the core is imported
+here, so the build also reads these tables to write the FMU's documentation.
+"""
+from __future__ import annotations
+
+import ctypes
+from xml.etree.ElementTree import Element, SubElement
+
+#: What the FMU is (modelDescription.xml and documentation).
+DESCRIPTION = ("Percussive pipe ramming with a soil plug and Coulomb dry friction: rigid models "
+               "I and II (exact or explicit solver) and elastic model III")
+
+#: The input: (name, unit, meaning).
+INPUT = ("Q", "N", "axial force on the struck end of the pipe (x = 0); positive drives the "
+                   "pipe into the soil; held constant over a communication step")
+
+#: SI base-unit exponents of every unit used (for <UnitDefinitions>).
+UNITS = {"m": {"m": 1}, "s": {"s": 1}, "m/s": {"m": 1, "s": -1}, "kg/m3": {"kg": 1, "m": -3},
+         "N": {"kg": 1, "m": 1, "s": -2}, "Pa": {"kg": 1, "m": -1, "s": -2},
+         "J": {"kg": 1, "m": 2, "s": -2}, "1": {}}
+
+#: The default experiment written into modelDescription.xml: (start [s], stop [s], step [s]).
+DEFAULT_EXPERIMENT = (0.0, 0.1, 1e-4)
+
+class PipePlugRefusal(RuntimeError):
+    """The single exception an instance raises (pythonfmu reports it as fmi2Fatal)."""
+
+
+def escape_percent(text: str) -> str:
+    """Escape ``%`` so a host's printf-style logger prints ``text`` literally."""
+    return text.replace("%", "%%")
+
+
+def refusal(name: str, value: object, allowed: str) -> str:
+    """The one log line of a refusal: variable, value and allowed range."""
+    return f"{name} = {value!r} is not allowed; allowed: {allowed}"
+
+
+def outlive_the_exception(instance) -> None:
+    """Keep ``instance`` valid after pythonfmu has handled its exception.
+
+    pythonfmu's C++ side releases its references to the instance, its log queue and its class
+    when a call raises, and releases them once more at fmi2Reset/fmi2FreeInstance. One extra
+    reference each balances that, so later calls reach a live object and the host survives.
+    """
+    incref = ctypes.pythonapi.Py_IncRef
+    incref.argtypes, incref.restype = [ctypes.py_object], None
+    for obj in (instance, instance.log_queue, type(instance)):
+        incref(obj)
+
+
+def decorate_model_description(root: Element, variables) -> None:
+    """Add ``<UnitDefinitions>`` and each Real's ``unit``, ``min`` and ``max`` (build time).
+
+    Parameters
+    ----------
+    root : Element
+        ``fmiModelDescription`` as pythonfmu writes it.
+    variables : iterable of (name, unit or None, bounds)
+        One entry per ScalarVariable, in value-reference order; ``bounds`` is ``(min, max)``
+        with None for an absent bound.
+    """
+    units = Element("UnitDefinitions")
+    for unit, exponents in UNITS.items():
+        SubElement(SubElement(units, "Unit", name=unit), "BaseUnit",
+                   {k: str(v) for k, v in exponents.items()})
+    root.insert(list(root).index(root.find("CoSimulation")) + 1, units)
+    for node, (_, unit, (lower, upper)) in zip(root.find("ModelVariables"), variables):
+        type_node = node[0]
+        if unit is not None and type_node.tag == "Real":
+            type_node.set("unit", unit)
+        if lower is not None:
+            type_node.set("min", _xml_number(lower))
+        if upper is not None:
+            type_node.set("max", _xml_number(upper))
+
+
+def _xml_number(value) -> str:
+    """A bound as written in modelDescription.xml (integers plain, reals round-tripping)."""
+    return str(value) if isinstance(value, int) else f"{value:.17g}"

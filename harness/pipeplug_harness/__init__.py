@@ -1,0 +1,7 @@
+"""pipeplug_harness: the ``pipeplug`` command (fmpy) and its jobs, one subpackage per job.
+
+``validate``, ``figures``, ``cost``, ``hardcases`` (the ``stability`` command), ``scenes`` and
+``bench`` (benchmarks that print ratios measured in one run). :mod:`pipeplug_harness.fmu_run`
+drives the FMU as users do. The references it checks against live in
+:mod:`pipeplug_references`, which never imports the core.
+"""

@@ -1,0 +1,1 @@
+"""pipeplug cost: what accuracy costs in time, for every method."""

@@ -1,0 +1,89 @@
+"""Runs of the core's own solvers for the ``cost`` study, and the timer.
+
+The core is driven without the FMU: the exact solver through its dense output
+(``model.sample``), the fd solver and the elastic model through ``advance``/``outputs`` at the
+sample times (the sample step is their communication step).
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+import pipeplug
+
+from .cases import BenchCase, from_outputs
+
+#: a timing stops repeating once it has spent this long, s (one run always happens)
+TIME_BUDGET = 0.3
+
+
+def best_time(run, repeats: int = 5, budget: float = TIME_BUDGET):
+    """Best wall time of ``run()`` over up to `repeats` calls, stopping after `budget` s in total.
+
+    Returns
+    -------
+    (object, float)
+        The last call's result and the best time, s.
+    """
+    best, spent, result = float("inf"), 0.0, None
+    for _ in range(max(1, repeats)):
+        start = time.perf_counter()
+        result = run()
+        elapsed = time.perf_counter() - start
+        best, spent = min(best, elapsed), spent + elapsed
+        if spent > budget:
+            break
+    return result, best
+
+
+def run_exact(bench: BenchCase) -> dict:
+    """Exact event-driven solver, dense output at the sample times (split at t0)."""
+    model = pipeplug.build_model(bench.params, dict(bench.options, solver="exact"))
+    times, t0 = bench.times, bench.case.t0
+    names = ("v_pipe", "v_plug", "u_pipe", "u_plug")     # the states an ODE solver returns
+    first = model.sample(bench.case.Q0, times[times <= t0], names)
+    second = model.sample(0.0, times[times > t0], names)
+    return from_outputs({k: np.concatenate([first[k], second[k]]) for k in first})
+
+
+def drive(model, bench: BenchCase, times: np.ndarray) -> dict:
+    """Advance `model` through `times` (s) under the pulse, recording the outputs at each."""
+    q0, t0 = bench.case.Q0, bench.case.t0
+    v1, v2, u1, u2 = (np.empty(len(times)) for _ in range(4))
+    previous = 0.0
+    for i, t in enumerate(times.tolist()):
+        model.advance(q0 if t <= t0 else 0.0, t - previous)   # the step ending at t0 is loaded
+        previous = t
+        out = model.outputs()
+        v1[i], v2[i], u1[i], u2[i] = out.v_pipe, out.v_plug, out.u_pipe, out.u_plug
+    return {"V1": v1, "V2": v2, "U1": u1, "U2": u2}
+
+
+def run_fd(bench: BenchCase, dt: float) -> dict:
+    """The paper's explicit scheme with internal steps <= `dt` (s), driven at the sample times."""
+    model = pipeplug.build_model(dict(bench.params, dt=dt), dict(bench.options, solver="fd"))
+    return drive(model, bench, bench.times)
+
+
+def run_stepped(bench: BenchCase, solver: str, rate: int) -> dict:
+    """A rigid solver driven at `rate` communication steps per second (fd: internal step = step)."""
+    params = dict(bench.params, dt=1.0 / rate) if solver == "fd" else bench.params
+    model = pipeplug.build_model(params, dict(bench.options, solver=solver))
+    times = np.arange(1, round(bench.t_end * rate) + 1) / rate
+    return drive(model, bench, times)
+
+
+def run_elastic(bench: BenchCase, dx: float) -> dict:
+    """Elastic model III on a grid of spacing `dx` (m), outputs at ``x_monitor``."""
+    model = pipeplug.build_model(dict(bench.params, dx=dx), {"elastic": True})
+    return drive(model, bench, bench.times)
+
+
+def elastic_available(bench: BenchCase, dx: float) -> str:
+    """Empty string when the elastic model builds for `bench`, else why not."""
+    try:
+        pipeplug.build_model(dict(bench.params, dx=dx), {"elastic": True})
+    except (ImportError, pipeplug.ParameterError) as err:
+        return f"{type(err).__name__}: {err}"
+    return ""

@@ -1,0 +1,122 @@
+"""CSV files and the markdown report of the ``cost`` study."""
+from __future__ import annotations
+
+import csv
+import math
+from collections import defaultdict
+from pathlib import Path
+
+from .front import TARGET, aggregate, pareto_front, per_case_times, times_to_target
+
+#: headline ratios: (family compared with the exact solver, target speed-up or None)
+RATIO_TARGETS = (("LSODA", 20.0), ("Radau", 100.0), ("odeint-LSODA", None), ("BDF", None))
+
+
+def write_csv(rows: list[dict], path: Path, columns: tuple) -> None:
+    """Write `rows` (dicts) with the given `columns`, floats in full precision."""
+    with open(path, "w", newline="") as f:
+        writer = csv.DictWriter(f, fieldnames=columns, extrasaction="ignore")
+        writer.writeheader()
+        writer.writerows(rows)
+
+
+def _ms(seconds: float) -> str:
+    return "not reached" if math.isnan(seconds) else f"{1e3 * seconds:.3g}"
+
+
+def _e(value: float) -> str:
+    return "failed" if math.isnan(value) else f"{value:.2g}"
+
+
+def _table(header: list[str], lines: list[list[str]]) -> list[str]:
+    out = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
+    return out + ["| " + " | ".join(line) + " |" for line in lines]
+
+
+def headline(rows: list[dict], families) -> list[str]:
+    """Time to reach `TARGET` per family and the speed-ups of the exact solver.
+
+    Besides the time interpolated on each front, the measured time of the first setting below
+    `TARGET` is shown: the interpolation assumes settings between two front points exist.
+    """
+    reached = times_to_target(rows, families)
+    in_u = times_to_target(rows, families, key="max_rel_disp_error")
+    points = aggregate(rows)
+    measured = {(p["method"], p["setting"]): p["wall_s"] for p in points}
+    lines = []
+    for family, (seconds, setting) in reached.items():
+        own = [p for p in points if p["method"] == family]
+        best = min((p["max_rel_error"] for p in own if not math.isnan(p["max_rel_error"])),
+                   default=math.nan)
+        lines.append([family, str(len(own)), _e(best), _ms(seconds), setting or "-",
+                      _ms(measured.get((family, setting), math.nan)), _ms(in_u[family][0])])
+    text = _table(["method", "settings", "smallest error", f"time to {TARGET:g} [ms]",
+                   "first setting below it", "its measured time [ms]",
+                   f"time to {TARGET:g} in displacement [ms]"], lines)
+    exact = reached.get("exact", (math.nan, ""))[0]
+    text.append("")
+    for family, target in RATIO_TARGETS:
+        if family in reached:
+            seconds, setting = reached[family]
+            goal = f" (target >= {target:g})" if target else ""
+            line = f"- exact vs best {family}: **{_ratio(seconds, exact)}**{goal}"
+            if setting:
+                line += (f"; with the measured time of its first setting below {TARGET:g}: "
+                         f"{_ratio(measured[(family, setting)], exact)}")
+            text.append(line)
+    return text
+
+
+def _ratio(seconds: float, exact: float) -> str:
+    return "not reached" if math.isnan(seconds) else f"{seconds / exact:.1f}x"
+
+
+def per_case(rows: list[dict], families) -> list[str]:
+    """Time to reach `TARGET` on each case separately, and the ratios to the exact solver."""
+    times = per_case_times(rows, families)
+    shown = [f for f in families if any(f in t for t in times.values())]
+    ratios = [f for f in ("LSODA", "Radau") if f in shown]
+    lines = []
+    for case, t in times.items():
+        lines.append([case] + [_ms(t.get(f, math.nan)) for f in shown]
+                     + [_ratio(t.get(f, math.nan), t["exact"]) for f in ratios])
+    return _table(["case"] + [f"{f} [ms]" for f in shown] + [f"{f}/exact" for f in ratios], lines)
+
+
+def fronts(rows: list[dict], families) -> list[str]:
+    """The Pareto points of each family (aggregated over the cases)."""
+    points, lines = aggregate(rows), []
+    for family in families:
+        for p in pareto_front([p for p in points if p["method"] == family]):
+            lines.append([family, p["setting"], _e(p["max_rel_error"]), _ms(p["wall_s"])])
+    return _table(["method", "setting", "max relative error", "total time [ms]"], lines)
+
+
+def elastic_table(rows: list[dict]) -> list[str]:
+    """Model III against the rigid closed form: a model difference, not an error."""
+    lines = [[r["case"], r["setting"], _e(r["max_rel_error"]), _e(r["max_rel_disp_error"]),
+              _ms(r["wall_s"])] for r in rows]
+    return _table(["case", "grid", "velocity difference", "displacement difference",
+                   "time [ms]"], lines)
+
+
+def comm_table(rows: list[dict]) -> list[str]:
+    """Per communication step: largest error over the cases and total time, each solver."""
+    groups = defaultdict(dict)
+    for p in aggregate(rows):
+        groups[p["setting"]][p["method"]] = p
+    lines = []
+    for setting, by in sorted(groups.items(), key=lambda kv: -float(kv[0][2:])):
+        lines.append([setting[2:]] + [x for s in ("exact", "fd") for x in (
+            _e(by[s]["max_rel_error"]), _ms(by[s]["wall_s"]))])
+    return _table(["step h [s]", "exact: error", "exact: time [ms]", "fd (dt = h): error",
+                   "fd: time [ms]"], lines)
+
+
+def creep_table(rows: list[dict]) -> list[str]:
+    """Drift and speed of each body after its stop time."""
+    lines = [[r["case"], r["method"], "-" if r["method"] == "exact" else f"{r['eps']:g}",
+              *(f"{r[k]:.3g}" for k in ("pipe_creep_m", "pipe_residual_v", "creep_speed_theory",
+                                        "plug_creep_m", "plug_residual_v"))] for r in rows]
+    return _table(["case", "method", "eps [m/s]", "pipe drift [m]", "pipe speed [m/s]",
+                   "eps artanh(F2/F1) [m/s]", "plug drift [m]", "plug speed [m/s]"], lines)

@@ -1,0 +1,1 @@
+"""pipeplug figures: the paper's figures redrawn from FMU runs."""

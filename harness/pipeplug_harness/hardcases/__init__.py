@@ -1,0 +1,1 @@
+"""pipeplug stability: the catalogue of hard cases, run on every solver."""

@@ -1,0 +1,1 @@
+"""pipeplug scene: scene files (TOML) run through the FMU."""

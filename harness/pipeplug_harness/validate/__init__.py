@@ -1,0 +1,1 @@
+"""pipeplug validate: the FMU against the closed form; FMI cross-check files."""

@@ -1,0 +1,30 @@
+"""Fixtures shared by the whole suite: the FMU, built once per test process by the project's own
+build command (``build_fmu.py``, in a subprocess, as a user runs it)."""
+from __future__ import annotations
+
+import subprocess
+import sys
+import zipfile
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+@pytest.fixture(scope="session")
+def fmu_file(tmp_path_factory) -> Path:
+    """``build_fmu.py`` run once, into a temporary directory."""
+    dest = tmp_path_factory.mktemp("fmu") / "PipePlug.fmu"
+    subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), "--dest", str(dest)],
+                   check=True, capture_output=True, cwd=str(dest.parent))
+    return dest
+
+
+@pytest.fixture(scope="session")
+def fmu_dir(fmu_file, tmp_path_factory) -> Path:
+    """The FMU extracted once (FMPy accepts the directory)."""
+    target = tmp_path_factory.mktemp("fmu_extracted")
+    with zipfile.ZipFile(fmu_file) as zf:
+        zf.extractall(target)
+    return target

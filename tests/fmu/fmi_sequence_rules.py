@@ -1,0 +1,277 @@
+"""The FMI calls of the stateful test as hypothesis rules: instances, initialization, stepping,
+refusals for good. Every answer is checked against the contract's model
+(:mod:`fmi_sequence_model`); the FMU states' rules are in ``test_fmi_stateful.py``.
+"""
+from __future__ import annotations
+
+import math
+
+from fmi_sequence_model import (
+    DISCARD,
+    FATAL,
+    MODES,
+    OK,
+    PYTHONFMU_LINE,
+    REAL_OUTPUTS,
+    Instance,
+    invalid_names,
+    mirror_model,
+    step_refusals,
+)
+from hypothesis import event
+from hypothesis import strategies as st
+from hypothesis.stateful import (
+    Bundle,
+    RuleBasedStateMachine,
+    consumes,
+    initialize,
+    precondition,
+    rule,
+)
+
+NAN, INF = float("nan"), float("inf")
+PARAM_VALUES = {
+    "tau1": st.one_of(st.floats(0.0, 1.2e5), st.sampled_from([0.0, -1.0, NAN, INF])),
+    "tau2": st.one_of(st.floats(0.0, 1.2e5), st.sampled_from([0.0, -1.0, NAN])),
+    "L2": st.sampled_from([0.0, 0.5, 1.0, 2.0, NAN]),
+    "rho2": st.sampled_from([180.0, 1800.0, 1.8e5, 0.0]),
+    "dt": st.sampled_from([1e-4, 2e-4, 1e-3, 0.0, -1.0, NAN]),
+    "dx": st.sampled_from([0.1, 0.25, 0.3, 0.6, NAN]),
+    "courant": st.sampled_from([1.0, 0.5, 0.0, 1.5]),
+    "x_monitor": st.sampled_from([0.5, 0.0, 1.0, 2.0]),
+    "solver": st.sampled_from(["exact", "fd", "rk4", "%s%n%d", ""]),
+    "contact_growth": st.booleans(),
+    "elastic": st.booleans(),
+}
+VALID_START = st.fixed_dictionaries({
+    "solver": st.sampled_from(["exact", "fd"]), "elastic": st.sampled_from([False, False, True]),
+    "contact_growth": st.booleans(), "tau1": st.floats(0.0, 1.2e5), "tau2": st.floats(0.0, 1.2e5),
+    "L2": st.sampled_from([0.0, 0.5, 1.0]), "rho2": st.sampled_from([180.0, 1800.0, 1.8e5]),
+    "dt": st.sampled_from([1e-4, 2e-4]), "dx": st.sampled_from([0.1, 0.25])})
+Q_VALUES = st.one_of(st.floats(-5e4, 5e4), st.sampled_from([NAN, INF, -INF]))
+STEPS = st.one_of(st.floats(1e-6, 0.02), st.sampled_from([1e-3, 0.0, -1e-3, NAN]))
+OFFSETS = st.sampled_from([0.0, 0.0, 0.0, 1e-12, 1e-6, -1e-3])   # host time - FMU time [s]
+WORKER: dict = {}
+
+
+def _same(a, b) -> bool:
+    return a == b or (isinstance(a, float) and math.isnan(a) and math.isnan(b))
+
+
+INSTANCES, STATES = Bundle("instances"), Bundle("states")
+
+
+class FmiRules(RuleBasedStateMachine):
+    """The contract's model of up to four instances, checked call by call."""
+
+    instances = INSTANCES
+    states = STATES
+
+    def __init__(self):
+        super().__init__()
+        self.worker, self.vr = WORKER["worker"], WORKER["vr"]
+        self.live: dict[int, Instance] = {}
+        self.owner: dict[int, int] = {}       # FMU state -> instance it was obtained through
+        self.snaps: dict[int, dict] = {}
+        self.serial = 0
+
+    # Helpers -------------------------------------------------------------------------------
+    def call(self, inst: Instance, method: str, *args) -> dict:
+        return self.worker("call", id=inst.ident, method=method, args=list(args))
+
+    def expect(self, answer: dict, inst: Instance, status: int, names=()) -> None:
+        """Status as the contract says. A refusal: exactly one log line saying what is not
+        allowed and naming one of ``names`` (beside it, pythonfmu's own fatal line at most);
+        otherwise no log line (and none ever from a dead instance)."""
+        if inst.wild:
+            assert answer["status"] in (0, 1, 2, 3, 4), answer
+            return
+        assert answer["status"] == status, (status, answer)
+        assert all(entry[0] == inst.name for entry in answer["log"]), answer  # others quiet
+        lines = [entry[2] for entry in answer["log"]]
+        if not names:
+            assert lines == [], answer
+            return
+        refusals = [line for line in lines if "not allowed" in line]
+        assert len(refusals) == 1, answer
+        assert any(f"{n} = " in refusals[0] or n in refusals[0] for n in names), (names, answer)
+        others = [line for line in lines if line is not refusals[0]]
+        assert all(line.startswith(PYTHONFMU_LINE) for line in others), answer
+        assert status == FATAL or not others, answer
+
+    def fatal(self, inst: Instance, answer: dict, names) -> None:
+        """A refusal that ends the instance (quiet afterwards)."""
+        if inst.phase == "dead":
+            self.expect(answer, inst, OK)
+        else:
+            self.expect(answer, inst, FATAL, names)
+            inst.phase, inst.mirror = "dead", None
+            event(f"fatal: {names[0]}")
+
+    def check_outputs(self, inst: Instance, want: dict) -> None:
+        reals = self.call(inst, "getReal", [self.vr[n] for n in REAL_OUTPUTS])
+        modes = self.call(inst, "getInteger", [self.vr[n] for n in MODES])
+        self.expect(reals, inst, OK)
+        got = dict(zip(REAL_OUTPUTS + MODES, reals["value"] + modes["value"]))
+        assert all(_same(got[k], want[k]) for k in want), (inst.name, got, want)
+
+    def _free_state(self, state):
+        if state not in self.owner:
+            return                                        # freed with its instance already
+        owner = self.owner.pop(state)
+        self.live[owner].states.discard(state)
+        del self.snaps[state]
+        assert self.worker("free_state", id=owner, state=state)["status"] == OK
+
+
+    # Instances -----------------------------------------------------------------------------
+    @initialize(target=instances, given=VALID_START, stop=st.sampled_from([None, None, 0.1]))
+    def first(self, given, stop):
+        """Every sequence starts with one running instance."""
+        ident = self._new()
+        self.start_running(ident, given, stop)
+        return ident
+
+    @precondition(lambda self: len(self.live) < 4)
+    @rule(target=instances)
+    def another(self):
+        return self._new()
+
+    def _new(self):
+        self.serial += 1
+        name = f"i{self.serial}"
+        answer = self.worker("instantiate", name=name)
+        assert answer["status"] == OK and answer["log"] == []
+        inst = Instance(answer["value"], name)
+        self.live[inst.ident] = inst
+        inst.outputs = {n: 0.0 for n in REAL_OUTPUTS} | {n: 0 for n in MODES}
+        return inst.ident
+
+    @rule(ident=consumes(instances))
+    def free_instance(self, ident):
+        inst = self.live[ident]
+        for state in sorted(inst.states):
+            self._free_state(state)
+        self.expect(self.call(inst, "terminate"), inst, OK)
+        assert self.worker("free", id=ident)["status"] == OK
+        del self.live[ident]
+
+    @rule(ident=instances)
+    def reset(self, ident):
+        inst = self.live[ident]
+        answer = self.call(inst, "reset")
+        inst.wild = False
+        self.expect(answer, inst, OK)
+        inst.reset()
+        inst.outputs = {n: 0.0 for n in REAL_OUTPUTS} | {n: 0 for n in MODES}
+
+    # Initialization ------------------------------------------------------------------------
+    @rule(ident=instances, start=st.sampled_from([0.0, 2.5]),
+          length=st.sampled_from([None, 0.05, 1.0]))
+    def setup(self, ident, start, length):
+        inst = self.live[ident]
+        if inst.phase != "instantiated" or inst.wild:
+            return
+        stop = None if length is None else start + length
+        self.expect(self.call(inst, "setupExperiment", None, start, stop), inst, OK)
+        inst.time, inst.stop = start, stop
+
+    @rule(ident=instances)
+    def enter_initialization(self, ident):
+        inst = self.live[ident]
+        if inst.phase == "instantiated" and not inst.wild:
+            self.expect(self.call(inst, "enterInitializationMode"), inst, OK)
+            inst.phase = "init"
+
+    @rule(ident=instances, data=st.data())
+    def set_parameter(self, ident, data):
+        inst = self.live[ident]
+        name = data.draw(st.sampled_from(sorted(PARAM_VALUES)))
+        value = data.draw(PARAM_VALUES[name])
+        kind = {"solver": "String", "contact_growth": "Boolean", "elastic": "Boolean"}.get(
+            name, "Real")
+        if inst.phase == "run" and data.draw(st.integers(0, 3)):
+            return                              # rarely: a fixed parameter after initialization
+        answer = self.call(inst, "set" + kind, [self.vr[name]], [value])
+        if inst.phase in ("instantiated", "init"):
+            self.expect(answer, inst, OK)
+            inst.given[name] = value
+        else:   # a fixed parameter after initialization
+            self.fatal(inst, answer, [name])
+
+    @rule(ident=instances)
+    def exit_initialization(self, ident):
+        inst = self.live[ident]
+        if inst.phase != "init" or inst.wild:
+            return
+        answer = self.call(inst, "exitInitializationMode")
+        bad = invalid_names(inst.given)
+        if bad:
+            self.fatal(inst, answer, sorted(bad))
+            solver = inst.given.get("solver", "")
+            if "solver" in bad and "%" in solver and not inst.wild:   # printf-safe logging
+                assert any(f"solver = {solver!r}" in e[2] for e in answer["log"]), answer
+        else:
+            self.expect(answer, inst, OK)
+            inst.phase, inst.mirror = "run", mirror_model(inst.given)
+
+    @rule(ident=instances, given=VALID_START, stop=st.sampled_from([None, None, 0.1]))
+    def start_running(self, ident, given, stop):
+        """setupExperiment, enter, valid parameters, exit: the usual way to a running FMU."""
+        inst = self.live[ident]
+        if inst.phase != "instantiated" or inst.wild:
+            return
+        self.setup(ident, 0.0, stop)
+        self.enter_initialization(ident)
+        for name, value in given.items():
+            kind = {"solver": "String", "contact_growth": "Boolean", "elastic": "Boolean"}.get(
+                name, "Real")
+            self.expect(self.call(inst, "set" + kind, [self.vr[name]], [value]), inst, OK)
+            inst.given[name] = value
+        assert not invalid_names(inst.given)
+        self.exit_initialization(ident)
+
+    # Stepping ------------------------------------------------------------------------------
+    def running(self) -> list[int]:
+        return sorted(i for i, inst in self.live.items() if inst.phase == "run" and not inst.wild)
+
+    @precondition(lambda self: self.running())
+    @rule(data=st.data(), steps=st.lists(st.tuples(
+        st.floats(-5e4, 5e4), st.floats(1e-6, 0.02), st.sampled_from([0.0, 1e-12])),
+        min_size=1, max_size=5))
+    def step_valid(self, data, steps):
+        """A few steps the contract must take, on a running instance."""
+        ident = data.draw(st.sampled_from(self.running()))
+        for q, h, offset in steps:
+            self.step(ident, q, h, offset)
+
+    @rule(ident=instances, q=Q_VALUES, h=STEPS, offset=OFFSETS)
+    def step(self, ident, q, h, offset):
+        inst = self.live[ident]
+        self.expect(self.call(inst, "setReal", [self.vr["Q"]], [q]), inst, OK)
+        if inst.phase != "dead":
+            inst.q = q
+        t = inst.time + offset * max(1.0, abs(inst.time))
+        answer = self.call(inst, "doStep", t, h)
+        reasons = step_refusals(inst, t, h)
+        if inst.wild:
+            self.expect(answer, inst, OK)              # only survival is checked
+        elif inst.phase == "dead":
+            self.expect(answer, inst, DISCARD)
+        elif reasons:
+            self.expect(answer, inst, DISCARD, reasons)
+            event(f"discarded step: {reasons[0][:30]}")
+        else:
+            self.expect(answer, inst, OK)
+            inst.time = t + h
+            inst.mirror.advance(inst.q, h)
+            inst.outputs = inst.mirror.outputs()._asdict()
+            self.check_outputs(inst, inst.outputs)
+            event(f"step taken: {inst.given.get('solver', 'exact')}"
+                  f"{', elastic' if inst.given.get('elastic') else ''}")
+
+    @rule(ident=instances)
+    def get_outputs(self, ident):
+        inst = self.live[ident]
+        if inst.phase != "dead" and not inst.wild:
+            self.check_outputs(inst, inst.outputs)

@@ -1,0 +1,69 @@
+"""The validate and figures subcommands on small inputs."""
+import csv
+
+import numpy as np
+import pytest
+
+from pipeplug_harness.fmu_run import Pulse, Run, load_signal
+from pipeplug_references import closed_form as cf
+
+
+def test_help_lists_the_subcommands(pipeplug_cli):
+    out = pipeplug_cli("--help").stdout
+    for name in ("validate", "figures", "cost"):
+        assert name in out
+
+
+def test_validate_passes_and_writes_table_and_cross_check_files(pipeplug_cli, fmu_file, tmp_path):
+    proc = pipeplug_cli("validate", "--fmu", fmu_file, "--out", tmp_path / "v")
+    assert "0 failed" in proc.stdout
+    rows = list(csv.DictReader(open(tmp_path / "v" / "validate.csv")))
+    assert {r["solver"] for r in rows} == {"exact", "fd"}
+    assert {r["domain"] for r in rows} == {"I", "II", "III", "IV", "V"}
+    exact = [float(r["worst"]) for r in rows if r["solver"] == "exact"]
+    assert max(exact) <= 1e-9
+    opt = (tmp_path / "v" / "PipePlug_ref.opt").read_text()
+    assert "StopTime" in opt and "StepSize, 0.001" in opt
+    ref = np.genfromtxt(tmp_path / "v" / "PipePlug_ref.csv", delimiter=",", names=True)
+    case = cf.figure_cases()["4"][1]
+    assert ref["v_pipe"].max() == pytest.approx(Q0T0_OVER(case), rel=1e-12)
+
+
+def Q0T0_OVER(case):
+    """Peak pipe velocity at t0 in domain I: (Q0 - F1 - F2) t0 / M1 (derived by hand)."""
+    return (case.Q0 - case.P1 * case.L1 * case.tau1 - case.P2 * case.L2 * case.tau2) * case.t0 / case.M1
+
+
+def test_validate_fails_on_a_wrong_fmu(pipeplug_cli, fmu_file, tmp_path):
+    # A copy whose core takes P2 as the outer perimeter (ERRATA A6) must fail (exit 1).
+    import shutil
+    import zipfile
+    bad = tmp_path / "Bad.fmu"
+    with zipfile.ZipFile(fmu_file) as src, zipfile.ZipFile(bad, "w") as dst:
+        for item in src.infolist():
+            data = src.read(item)
+            if item.filename.endswith("pipeplug/params.py"):
+                fixed = data.replace(b"return 2.0 * math.pi * self.R1\n",
+                                     b"return 2.0 * math.pi * (self.R1 + self.h1)\n")
+                assert fixed != data
+                data = fixed
+            dst.writestr(item, data)
+    shutil.rmtree(tmp_path / "v", ignore_errors=True)
+    proc = pipeplug_cli("validate", "--fmu", bad, "--out", tmp_path / "v", "--random", "0",
+                        check=False)
+    assert proc.returncode == 1 and "failed" in proc.stdout
+
+
+def test_load_signal_puts_every_edge_on_a_duplicated_stamp():
+    run = Run(pulses=[Pulse(0.01, 0.0123, 5.0), Pulse(0.05, 0.01, -2.0)], stop_time=0.1)
+    sig = load_signal(run)
+    for edge in [e for p in run.pulses for e in (p.start, p.end)]:
+        assert np.count_nonzero(sig["time"] == edge) == 2
+    assert sig["Q"][sig["time"] < 0.01].max() == 0.0
+
+
+def test_figures_draws_pngs(pipeplug_cli, fmu_file, tmp_path):
+    pipeplug_cli("figures", "--fmu", fmu_file, "--out", tmp_path / "f", "--only", "4", "6b")
+    for name in ("fig4.png", "fig6b.png"):
+        data = (tmp_path / "f" / name).read_bytes()
+        assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 20_000
