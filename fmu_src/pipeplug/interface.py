@@ -14,6 +14,7 @@ variables from it, the harness reads its columns by it, and :class:`Outputs` is 
 """
 from __future__ import annotations
 
+import math
 from typing import NamedTuple, Protocol
 
 import numpy as np
@@ -25,8 +26,8 @@ class Output(NamedTuple):
     """One row of the output table."""
 
     name: str
-    unit: str          #: SI unit; "1" for the integer modes
-    kind: str          #: "Real" or "Integer"
+    unit: str          #: SI unit; "1" for the modes and the flag
+    kind: str          #: "Real", "Integer" or "Boolean"
     meaning: str
 
 
@@ -44,6 +45,12 @@ OUTPUTS: tuple[Output, ...] = (
            "total friction force of the plug on the pipe, along +x (same rule)"),
     Output("W_input", "J", "Real", "work done by Q since t = 0"),
     Output("W_friction", "J", "Real", "friction work dissipated since t = 0 (never decreases)"),
+    Output("W_friction_outer", "J", "Real",
+           "the part of W_friction dissipated between pipe and soil"),
+    Output("W_friction_inner", "J", "Real",
+           "the part of W_friction dissipated between pipe and plug"),
+    Output("at_rest", "1", "Boolean", "true when a step under Q = 0 would leave the whole state "
+                                      "unchanged, bit for bit"),
     Output("pipe_mode", "1", "Integer", "pipe/soil contact: -1 sliding backward, 0 stuck to the "
                                         "soil, 1 sliding forward (elastic: at x_monitor)"),
     Output("plug_mode", "1", "Integer", "pipe/plug contact: sign(v_pipe - v_plug); 0 = stuck "
@@ -52,7 +59,8 @@ OUTPUTS: tuple[Output, ...] = (
 
 OUTPUT_NAMES: tuple[str, ...] = tuple(o.name for o in OUTPUTS)
 
-Outputs = NamedTuple("Outputs", [(o.name, float if o.kind == "Real" else int) for o in OUTPUTS])
+_TYPES = {"Real": float, "Integer": int, "Boolean": bool}
+Outputs = NamedTuple("Outputs", [(o.name, _TYPES[o.kind]) for o in OUTPUTS])
 Outputs.__doc__ = "The outputs at the model's current time, SI units (see :data:`OUTPUTS`)."
 Outputs.__module__ = __name__
 
@@ -64,6 +72,14 @@ class Model(Protocol):
 
     def advance(self, q: float, h: float) -> None:
         """Advance by ``h`` [s] > 0 under a constant struck-end force ``q`` [N]."""
+
+    def advance_to(self, q: float, t_end: float) -> None:
+        """Advance to the absolute time ``t_end`` [s] > :attr:`time` under a constant ``q``
+        [N]; :attr:`time` becomes exactly ``t_end`` (a host's own communication point)."""
+
+    def at_rest(self) -> bool:
+        """True when a step under Q = 0 would leave the whole state unchanged, bit for bit
+        (then such steps cost nothing)."""
 
     def outputs(self) -> Outputs:
         """The outputs at the current time (forces under the last step's Q)."""
@@ -82,9 +98,32 @@ class Model(Protocol):
 
 
 class ModelBase:
-    """Shared parts of the protocol: dense output by stepping from sample to sample."""
+    """Shared parts of the protocol: stepping by a length or to a time, dense output.
+
+    A variant implements ``_step_to(q, h, t_end)``: advance by ``h`` under ``q`` and end at
+    the time ``t_end`` (``h`` and ``t_end - time`` agree to round-off; the variant takes the
+    internal steps from ``h`` and sets :attr:`time` to ``t_end``).
+    """
 
     time: float
+
+    def advance(self, q: float, h: float) -> None:
+        """Advance by ``h`` [s] > 0 under a constant struck-end force ``q`` [N]."""
+        h = float(h)
+        self._check_step(q, h)
+        self._step_to(float(q), h, self.time + h)
+
+    def advance_to(self, q: float, t_end: float) -> None:
+        """Advance to the absolute time ``t_end`` [s] under a constant force ``q`` [N]."""
+        t_end = float(t_end)
+        h = t_end - self.time
+        self._check_step(q, h)
+        self._step_to(float(q), h, t_end)
+
+    @staticmethod
+    def _check_step(q, h) -> None:
+        if not (h > 0.0 and math.isfinite(h) and math.isfinite(q)):
+            raise ValueError(f"a step needs a finite q and a finite h > 0 (got q={q!r}, h={h!r})")
 
     def sample(self, q: float, times, names=OUTPUT_NAMES) -> dict:
         """Advance to each of ``times`` [s] (increasing, later than :attr:`time`) under a
@@ -99,7 +138,7 @@ class ModelBase:
         rows = [OUTPUT_NAMES.index(name) for name in names]
         table = np.empty((len(rows), len(times)))
         for k, t in enumerate(times):
-            self.advance(q, float(t) - self.time)
+            self.advance_to(q, t)
             out = self.outputs()
             table[:, k] = [out[row] for row in rows]
         return dict(zip(names, table))

@@ -98,7 +98,9 @@ class PipePlug(Fmi2Slave):
             if out.kind == "Real":
                 self._add(Real, self._real, out.name, 0.0, out.unit, out.meaning, **_OUTPUT)
             else:
-                self._add(Integer, self._int, out.name, 0, None, out.meaning, **dict(
+                kind, table, start = ((Integer, self._int, 0) if out.kind == "Integer"
+                                      else (Boolean, self._bool, False))
+                self._add(kind, table, out.name, start, None, out.meaning, **dict(
                     _OUTPUT, variability=Fmi2Variability.discrete))
         self._out_tables = tuple(self._table_of(vr) for vr in _OUTPUT_VRS)
         for p in PARAMETERS:
@@ -149,10 +151,12 @@ class PipePlug(Fmi2Slave):
         # Written so that NaN fails every test: ``not (x <= bound)`` rather than ``x > bound``.
         if (model is None or not abs(current_time - t) <= _TIME_TOLERANCE * max(1.0, abs(t))
                 or not step_size > 0.0 or not current_time + step_size <= self._stop_limit
-                or not q - q == 0.0):
+                or not current_time + step_size > t or not q - q == 0.0):
             return self._refuse_step(current_time, step_size)
         try:
-            model.advance(q, step_size)
+            # To the host's own point: hosts computing t = k h and t += h both get outputs
+            # at exactly their communication points (the model keeps no time of its own).
+            model.advance_to(q, current_time + step_size)
             out = model.outputs()
         except Exception as exc:
             self._fatal(f"the model failed at t = {t!r} s: {type(exc).__name__}: {exc}")
@@ -176,6 +180,9 @@ class PipePlug(Fmi2Slave):
                            f"the FMU time {t!r} s within 1e-9*max(1, |t|)")
         elif not step_size > 0.0:
             line = refusal("communicationStepSize", step_size, "> 0 s")
+        elif not current_time + step_size > t:
+            line = refusal("currentCommunicationPoint + communicationStepSize",
+                           current_time + step_size, f"> the FMU time {t!r} s")
         else:
             line = refusal("currentCommunicationPoint + communicationStepSize",
                            current_time + step_size, f"<= stopTime (+1e-9*max(1, |stopTime|)), "

@@ -25,8 +25,9 @@ DEFAULTS = {"L1": 1.0, "L2": 1.0, "R1": 0.035, "h1": 0.003, "rho1": 7800.0, "rho
             "solver": "exact"}
 OPTIONS = ("solver", "contact_growth", "elastic")
 REAL_OUTPUTS = ("v_pipe", "v_plug", "u_pipe", "u_plug", "F_outer", "F_inner", "W_input",
-                "W_friction")
+                "W_friction", "W_friction_outer", "W_friction_inner")
 MODES = ("pipe_mode", "plug_mode")
+FLAGS = ("at_rest",)
 PYTHONFMU_LINE = "Fatal py exception"      # pythonfmu's own line that goes with a fatal
 OK, DISCARD, FATAL = 0, 2, 4
 
@@ -133,6 +134,8 @@ def step_refusals(inst: Instance, t: float, h: float) -> list[str]:
         reasons.append("currentCommunicationPoint")
     if not h > 0.0:
         reasons.append("communicationStepSize")
+    elif not t + h > inst.time:
+        reasons.append("currentCommunicationPoint + communicationStepSize")
     elif inst.stop is not None and t + h > inst.stop + 1e-9 * max(1.0, abs(inst.stop)):
         reasons.append("currentCommunicationPoint + communicationStepSize")
     return reasons

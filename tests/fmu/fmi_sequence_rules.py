@@ -9,6 +9,7 @@ import math
 from fmi_sequence_model import (
     DISCARD,
     FATAL,
+    FLAGS,
     MODES,
     OK,
     PYTHONFMU_LINE,
@@ -111,8 +112,10 @@ class FmiRules(RuleBasedStateMachine):
     def check_outputs(self, inst: Instance, want: dict) -> None:
         reals = self.call(inst, "getReal", [self.vr[n] for n in REAL_OUTPUTS])
         modes = self.call(inst, "getInteger", [self.vr[n] for n in MODES])
+        flags = self.call(inst, "getBoolean", [self.vr[n] for n in FLAGS])
         self.expect(reals, inst, OK)
-        got = dict(zip(REAL_OUTPUTS + MODES, reals["value"] + modes["value"]))
+        got = dict(zip(REAL_OUTPUTS + MODES + FLAGS,
+                       reals["value"] + modes["value"] + flags["value"]))
         assert all(_same(got[k], want[k]) for k in want), (inst.name, got, want)
 
     def _free_state(self, state):
@@ -144,7 +147,7 @@ class FmiRules(RuleBasedStateMachine):
         assert answer["status"] == OK and answer["log"] == []
         inst = Instance(answer["value"], name)
         self.live[inst.ident] = inst
-        inst.outputs = {n: 0.0 for n in REAL_OUTPUTS} | {n: 0 for n in MODES}
+        inst.outputs = {n: 0.0 for n in REAL_OUTPUTS} | {n: 0 for n in MODES} | {n: False for n in FLAGS}
         return inst.ident
 
     @rule(ident=consumes(instances))
@@ -163,7 +166,7 @@ class FmiRules(RuleBasedStateMachine):
         inst.wild = False
         self.expect(answer, inst, OK)
         inst.reset()
-        inst.outputs = {n: 0.0 for n in REAL_OUTPUTS} | {n: 0 for n in MODES}
+        inst.outputs = {n: 0.0 for n in REAL_OUTPUTS} | {n: 0 for n in MODES} | {n: False for n in FLAGS}
 
     # Initialization ------------------------------------------------------------------------
     @rule(ident=instances, start=st.sampled_from([0.0, 2.5]),
@@ -264,7 +267,7 @@ class FmiRules(RuleBasedStateMachine):
         else:
             self.expect(answer, inst, OK)
             inst.time = t + h
-            inst.mirror.advance(inst.q, h)
+            inst.mirror.advance_to(inst.q, t + h)       # the FMU steps to the host's time
             inst.outputs = inst.mirror.outputs()._asdict()
             self.check_outputs(inst, inst.outputs)
             event(f"step taken: {inst.given.get('solver', 'exact')}"

@@ -27,9 +27,13 @@ CONTRACT_PARAMETERS = {
 }
 CONTRACT_OPTIONS = {"contact_growth": ("Boolean", "false"), "elastic": ("Boolean", "false"),
                     "solver": ("String", "exact")}
-CONTRACT_OUTPUTS = {"v_pipe": "m/s", "v_plug": "m/s", "u_pipe": "m", "u_plug": "m",
-                    "F_outer": "N", "F_inner": "N", "W_input": "J", "W_friction": "J",
-                    "pipe_mode": None, "plug_mode": None}
+#: Output name -> (type, unit), from the contract's table.
+CONTRACT_OUTPUTS = {"v_pipe": ("Real", "m/s"), "v_plug": ("Real", "m/s"), "u_pipe": ("Real", "m"),
+                    "u_plug": ("Real", "m"), "F_outer": ("Real", "N"), "F_inner": ("Real", "N"),
+                    "W_input": ("Real", "J"), "W_friction": ("Real", "J"),
+                    "W_friction_outer": ("Real", "J"), "W_friction_inner": ("Real", "J"),
+                    "at_rest": ("Boolean", None), "pipe_mode": ("Integer", None),
+                    "plug_mode": ("Integer", None)}
 #: Output name -> name in pipeplug_references.closed_form.solution
 CLOSED_FORM_NAMES = {"v_pipe": "V1", "v_plug": "V2", "u_pipe": "U1", "u_plug": "U2",
                      "F_outer": "F_outer", "F_inner": "F_inner", "W_input": "W_input",

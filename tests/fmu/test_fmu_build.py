@@ -81,11 +81,12 @@ def test_input_and_outputs(variables):
     q, q_type = variables["Q"]
     assert (q.get("causality"), q.get("variability"), q_type.tag) == ("input", "continuous",
                                                                       "Real")
-    for name, unit in CONTRACT_OUTPUTS.items():
+    for name, (kind, unit) in CONTRACT_OUTPUTS.items():
         var, typ = variables[name]
         assert (var.get("causality"), var.get("initial")) == ("output", "exact"), name
-        assert float(typ.get("start")) == 0.0, name
-        assert typ.tag == ("Integer" if unit is None else "Real"), name
+        assert typ.get("start") == ("false" if kind == "Boolean" else typ.get("start")), name
+        assert kind == "Boolean" or float(typ.get("start")) == 0.0, name
+        assert typ.tag == kind, name
         assert typ.get("unit") == unit, name
     for name in ("pipe_mode", "plug_mode"):
         assert (variables[name][1].get("min"), variables[name][1].get("max")) == ("-1", "1")

@@ -118,14 +118,16 @@ def two_contacts(m1, m2, w1, w2, c1, c2, slack):
 def pattern(m1, m2, w1, w2, c1, c2, s1, s2):
     """Rates and forces of the sign pattern ``(s1, s2)``, and how far it violates its
     conditions (<= 0: consistent) [N or N s]."""
+    # Static reactions are written 0.0 - m w - f: the same numbers as -m w - f, but +0.0
+    # rather than -0.0 under no load, so that a body at rest stays bit for bit the same.
     if s1 == 0 and s2 == 0:
         f2 = m2 * w2
-        f1 = -m1 * w1 - f2
+        f1 = 0.0 - m1 * w1 - f2
         return 0.0, 0.0, f1, f2, max(abs(f1) - c1, abs(f2) - c2)
     if s1 == 0:
         f2 = -c2 * s2
         x2 = w2 - f2 / m2
-        f1 = -m1 * w1 - f2
+        f1 = 0.0 - m1 * w1 - f2
         return 0.0, x2, f1, f2, max(abs(f1) - c1, x2 * s2 * m2)
     if s2 == 0:
         f1 = -c1 * s1

@@ -92,12 +92,13 @@ def plug_cells(v1, N1, v2, N2, j0, a1, a2, m1, m2, c2):
 def plug_soil_cells(v1, N1, v2, N2, j0, a1, a2, m1, m2, c1, c2, start):
     """As :func:`plug_cells`, with the soil contact too (weights as in :func:`soil_cells`).
 
-    Returns the impulses of the soil and of the plug on the pipe [N s], the dissipated work
-    and its negative part [J].
+    Returns the impulses of the soil and of the plug on the pipe [N s], the work dissipated at
+    the soil and at the plug contacts, and the negative part of both [J].
     """
     outer = 0.0
     inner = 0.0
-    work = 0.0
+    work_outer = 0.0
+    work_inner = 0.0
     w_neg = 0.0
     for k in range(v2.shape[0]):
         j = j0 + k
@@ -110,9 +111,9 @@ def plug_soil_cells(v1, N1, v2, N2, j0, a1, a2, m1, m2, c1, c2, start):
         v2[k] = x2
         outer += f1
         inner += f2
-        work, w_neg = _book(-0.5 * f1 * (p_old + x1), work, w_neg)
-        work, w_neg = _book(-0.5 * f2 * (p_old - q_old + x1 - x2), work, w_neg)
-    return outer, inner, work, w_neg
+        work_outer, w_neg = _book(-0.5 * f1 * (p_old + x1), work_outer, w_neg)
+        work_inner, w_neg = _book(-0.5 * f2 * (p_old - q_old + x1 - x2), work_inner, w_neg)
+    return outer, inner, work_outer, work_inner, w_neg
 
 
 @jitable

@@ -23,10 +23,11 @@ __all__ = ["KERNELS"]
 # per full cell P tau dx [N] of the soil and plug contacts, grid step [m].
 M1, K1, M2, K2, C1, C2, DX = range(7)
 N_COEF = 7
-# acc: W_input [J], W_friction [J], negative friction work of reversing steps [J], last
-# step's soil and plug friction forces on the pipe along +x [N].
-W_IN, W_FR, W_NEG, F_OUT, F_IN = range(5)
-N_ACC = 5
+# acc: W_input [J], friction work dissipated at the soil and at the plug contact [J],
+# negative friction work of reversing steps [J], last step's soil and plug friction forces on
+# the pipe along +x [N].
+W_IN, W_OUTER, W_INNER, W_NEG, F_OUT, F_IN = range(6)
+N_ACC = 6
 
 
 @jitable
@@ -40,9 +41,10 @@ def _finish_step(q, dt, v_first_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u
 
 
 @jitable
-def _add_work(acc, work, w_neg):
-    """Accumulate the friction work of a step: dissipated [J] and reversing part [J]."""
-    acc[W_FR] += work
+def _add_work(acc, contact, work, w_neg):
+    """Accumulate the friction work of a step at ``contact`` (W_OUTER or W_INNER): dissipated
+    [J] and reversing part [J]."""
+    acc[contact] += work
     acc[W_NEG] += w_neg
 
 
@@ -52,7 +54,7 @@ def _soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, start):
     v_old = v1[0]
     outer, work, w_neg = soil_cells(v1, N1, 0, v1.shape[0], dt / coef[M1], coef[M1],
                                     dt * coef[C1], start)
-    _add_work(acc, work, w_neg)
+    _add_work(acc, W_OUTER, work, w_neg)
     _finish_step(q, dt, v_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc)
     return outer
 
@@ -65,10 +67,11 @@ def _plug_soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, st
     a1 = dt / coef[M1]
     c1 = dt * coef[C1]
     outer, work, w_neg = soil_cells(v1, N1, 0, j0, a1, coef[M1], c1, start)
-    _add_work(acc, work, w_neg)
-    outer2, inner, work, w_neg = plug_soil_cells(v1, N1, v2, N2, j0, a1, dt / coef[M2],
-                                                 coef[M1], coef[M2], c1, dt * coef[C2], start)
-    _add_work(acc, work, w_neg)
+    _add_work(acc, W_OUTER, work, w_neg)
+    outer2, inner, work_outer, work_inner, w_neg = plug_soil_cells(
+        v1, N1, v2, N2, j0, a1, dt / coef[M2], coef[M1], coef[M2], c1, dt * coef[C2], start)
+    _add_work(acc, W_OUTER, work_outer, 0.0)
+    _add_work(acc, W_INNER, work_inner, w_neg)
     _finish_step(q, dt, v_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc)
     return outer + outer2, inner
 
@@ -119,7 +122,7 @@ def run_pipe_plug(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
         free_cells(v1, N1, 0, j0, dt / coef[M1])
         inner, work, w_neg = plug_cells(v1, N1, v2, N2, j0, dt / coef[M1], dt / coef[M2],
                                         coef[M1], coef[M2], dt * coef[C2])
-        _add_work(acc, work, w_neg)
+        _add_work(acc, W_INNER, work, w_neg)
         _finish_step(q, dt, v_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc)
     acc[F_OUT] = 0.0
     acc[F_IN] = inner / dt

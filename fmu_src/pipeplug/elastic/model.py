@@ -33,7 +33,7 @@ import numpy as np
 from ..interface import ModelBase, Outputs
 from ..jit import compiled
 from .grid import Section, build_grid
-from .kernels import F_IN, F_OUT, K1, K2, KERNELS, M1, M2, N_ACC, W_FR, W_IN, W_NEG
+from .kernels import F_IN, F_OUT, K1, K2, KERNELS, M1, M2, N_ACC, W_IN, W_INNER, W_NEG, W_OUTER
 
 __all__ = ["ElasticModel"]
 
@@ -64,22 +64,24 @@ class ElasticModel(ModelBase):
         self.v2, self.N2 = np.zeros(g.n2), np.zeros(g.n2 + 1)
         self.u1, self.u2 = np.zeros(g.cells1.size), np.zeros(g.cells2.size)
         self.acc = np.zeros(N_ACC)
+        self._rest = None   # at_rest() of the current state, once known
 
     def steps_for(self, h: float) -> int:
         """Number of internal steps taken for a communication step ``h`` [s]."""
         return max(1, math.ceil(h / self.grid.h_max - 1e-9))
 
-    def advance(self, q: float, h: float) -> None:
-        """Advance by ``h`` [s] > 0 under a constant struck-end force ``q`` [N]."""
-        if not (h > 0.0 and math.isfinite(h) and math.isfinite(q)):
-            raise ValueError(f"advance needs a finite q and h > 0 (got q={q!r}, h={h!r})")
-        n = self.steps_for(h)
-        dt = h / n
-        g = self.grid
-        self._kernel(n, dt, float(q), g.coef, self.v1, self.N1, self.v2, self.N2,
-                     g.cells1, self.u1, g.cells2, self.u2, self.acc)
-        self._dt = dt
-        self.time += h
+    def _step_to(self, q: float, h: float, t_end: float) -> None:
+        """Advance by ``h`` [s] in equal internal steps under ``q`` [N], ending at ``t_end``
+        [s]; at rest under no load the steps change nothing and are skipped."""
+        if not (q == 0.0 and self.at_rest()):
+            n = self.steps_for(h)
+            dt = h / n
+            g = self.grid
+            self._kernel(n, dt, q, g.coef, self.v1, self.N1, self.v2, self.N2,
+                         g.cells1, self.u1, g.cells2, self.u2, self.acc)
+            self._dt = dt
+            self._rest = None
+        self.time = t_end
 
     def outputs(self) -> Outputs:
         """The contract's outputs at the current time (forces of the last internal step)."""
@@ -94,9 +96,28 @@ class ElasticModel(ModelBase):
             u_plug = (1.0 - g.plug.w) * self.u2[0] + g.plug.w * self.u2[1]
             k = g.plug.cell
             plug_mode = _sign(self.v1[g.n1 - g.n2 + k] - self.v2[k])
+        outer, inner = float(acc[W_OUTER]), float(acc[W_INNER])
         return Outputs(float(v_pipe), float(v_plug), float(u_pipe), float(u_plug),
-                       float(acc[F_OUT]), float(acc[F_IN]), float(acc[W_IN]),
-                       float(acc[W_FR]), _sign(self.v1[pipe_cell]), plug_mode)
+                       float(acc[F_OUT]), float(acc[F_IN]), float(acc[W_IN]), outer + inner,
+                       outer, inner, self.at_rest(), _sign(self.v1[pipe_cell]), plug_mode)
+
+    def at_rest(self) -> bool:
+        """Every cell still, and one more internal step under Q = 0 (of the last step's
+        length) leaves every field, work and force unchanged, bit for bit."""
+        if self._rest is None:
+            self._rest = (not self.v1.any() and not self.v2.any()
+                          and self._trial_step_keeps_the_state())
+        return self._rest
+
+    def _trial_step_keeps_the_state(self) -> bool:
+        """Take one step under Q = 0 on copies of the fields and compare the bits."""
+        g = self.grid
+        before = [getattr(self, name) for name in _FIELDS]
+        after = [field.copy() for field in before]
+        v1, N1, v2, N2, u1, u2, acc = after
+        self._kernel(1, self._dt or g.h_max, 0.0, g.coef, v1, N1, v2, N2, g.cells1, u1,
+                     g.cells2, u2, acc)
+        return all(a.tobytes() == b.tobytes() for a, b in zip(before, after))
 
     def energies(self) -> tuple[float, float, float]:
         """Discrete energies of the scheme [J]: kinetic, elastic, and the reversing work.
@@ -128,6 +149,7 @@ class ElasticModel(ModelBase):
                 raise ValueError(f"state field {name!r} has shape {value.shape}, "
                                  f"this model needs {target.shape}")
             target[...] = value
+        self._rest = None
         self.time = float(state["time"])
         self._dt = float(state["dt"])
 

@@ -59,10 +59,9 @@ class RigidExact(ModelBase):
         self._labels = ()
 
     # Stepping ---------------------------------------------------------------------------
-    def advance(self, q: float, h: float) -> None:
-        """Advance by ``h`` [s] under a constant struck-end force ``q`` [N]."""
-        q = float(q)
-        t_end = self.time + float(h)
+    def _step_to(self, q: float, h: float, t_end: float) -> None:
+        """Advance to ``t_end`` [s] under a constant struck-end force ``q`` [N] (events are
+        times, so only ``t_end`` matters)."""
         if q == self._piece.Q and t_end < self._t_snap and t_end <= self._searched:
             self.time = t_end            # the common case: no event inside the step
             return
@@ -240,7 +239,8 @@ class RigidExact(ModelBase):
 
     def outputs(self) -> Outputs:
         """The contract's outputs at the current time."""
-        return Outputs(*self._outputs_at(self.time))
+        out = self._outputs_at(self.time)
+        return Outputs(*out[:10], bool(out[10]), *out[11:])
 
     def _kinematics_at(self, t):
         """``(V1, V2, U1, U2)`` at absolute time(s) ``t`` inside the current piece."""
@@ -252,8 +252,13 @@ class RigidExact(ModelBase):
         """Output values at absolute time(s) ``t`` inside the current piece."""
         U1, V1, U2, V2, W_in, W_outer, W_inner = self._values_at(t)
         f1, f2 = self._piece.forces(U1)
-        return (V1, V2, U1, U2, f1, f2, W_in, W_outer + W_inner, self._piece.s1,
-                self._piece.s2)
+        rest = self.at_rest() + 0.0 * U1         # (an array for dense output)
+        return (V1, V2, U1, U2, f1, f2, W_in, W_outer + W_inner, W_outer, W_inner, rest,
+                self._piece.s1, self._piece.s2)
+
+    def at_rest(self) -> bool:
+        """Both bodies stuck with no load: a step under Q = 0 changes nothing but the time."""
+        return isinstance(self._piece, AtRest) and self._piece.Q == 0.0
 
     def energies(self) -> tuple[float, float, float]:
         """Kinetic energy [J]; rigid bodies store no elastic energy and reverse no work."""

@@ -26,7 +26,8 @@ from ..interface import ModelBase, Outputs
 
 __all__ = ["RigidFd", "internal_steps"]
 
-_STATE_KEYS = ("time", "U1", "V1", "U2", "V2", "W_in", "W_fr", "f1", "f2", "s1", "s2", "p_max")
+_STATE_KEYS = ("time", "U1", "V1", "U2", "V2", "W_in", "W_outer", "W_inner", "f1", "f2", "s1",
+               "s2", "p_max")
 # Velocities carry round-off of the largest momentum the run has seen: a trial momentum within
 # this share of it from a friction limit sticks (else a body whose load equals its limit
 # slides on forever at 1e-13 m/s after a grazing stop).
@@ -58,16 +59,22 @@ class RigidFd(ModelBase):
         self._s = dict.fromkeys(_STATE_KEYS, 0.0)
         self._s["s1"] = self._s["s2"] = 0
 
-    def advance(self, q: float, h: float) -> None:
-        """Advance by ``h`` [s] under a constant struck-end force ``q`` [N]."""
-        q, h = float(q), float(h)
-        n = internal_steps(h, self.dt_max)
-        tau = h / n
+    def _step_to(self, q: float, h: float, t_end: float) -> None:
+        """Advance by ``h`` [s] in equal internal steps <= ``dt`` under ``q`` [N], ending at
+        ``t_end`` [s]; at rest under no load the steps change nothing and are skipped."""
         s = self._s
-        for _ in range(n):
-            self._step(s, q, tau)
-        self.time += h
-        s["time"] = self.time
+        if not (q == 0.0 and self.at_rest()):
+            n = internal_steps(h, self.dt_max)
+            tau = h / n
+            for _ in range(n):
+                self._step(s, q, tau)
+        self.time = t_end
+        s["time"] = t_end
+
+    def at_rest(self) -> bool:
+        """Both bodies at rest and no friction force: a step under Q = 0 changes nothing."""
+        s = self._s
+        return s["V1"] == 0.0 and s["V2"] == 0.0 and s["f1"] == 0.0 and s["f2"] == 0.0
 
     def _step_pair(self, s: dict, q: float, tau: float) -> None:
         """One step of pipe and plug."""
@@ -91,14 +98,16 @@ class RigidFd(ModelBase):
         s["U2"] += tau * v2
         s["V1"], s["V2"] = v1, v2
         s["W_in"] += q * tau * v1
-        s["W_fr"] -= p1 * v1 + p2 * (v1 - v2)
+        s["W_outer"] -= p1 * v1
+        s["W_inner"] -= p2 * (v1 - v2)
         s["f1"], s["f2"], s["s1"], s["s2"] = p1 / tau, p2 / tau, s1, s2
 
     def outputs(self) -> Outputs:
         """The contract's outputs (velocities: the last step's (U^{n+1} - U^n)/tau)."""
         s = self._s
         return Outputs(s["V1"], s["V2"], s["U1"], s["U2"], s["f1"], s["f2"], s["W_in"],
-                       s["W_fr"], int(s["s1"]), int(s["s2"]))
+                       s["W_outer"] + s["W_inner"], s["W_outer"], s["W_inner"], self.at_rest(),
+                       int(s["s1"]), int(s["s2"]))
 
     def energies(self) -> tuple[float, float, float]:
         """Kinetic energy of the last step velocities [J]; no elastic or reversing work."""
