@@ -14,10 +14,11 @@ from pathlib import Path
 
 import numpy as np
 
+from pipeplug import OUTPUT_NAMES
+
 __all__ = ["Pulse", "Run", "RunIncomplete", "load_signal", "run_fmu", "OUTPUTS", "DEFAULT_FMU"]
 
-OUTPUTS = ("v_pipe", "v_plug", "u_pipe", "u_plug", "F_outer", "F_inner", "W_input",
-           "W_friction", "pipe_mode", "plug_mode")
+OUTPUTS = OUTPUT_NAMES           # the core's one table of outputs
 DEFAULT_FMU = Path("dist") / "PipePlug.fmu"
 _EXTRACTED: dict[tuple[str, float], str] = {}
 
