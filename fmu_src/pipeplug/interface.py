@@ -73,9 +73,10 @@ class Model(Protocol):
     def advance(self, q: float, h: float) -> None:
         """Advance by ``h`` [s] > 0 under a constant struck-end force ``q`` [N]."""
 
-    def advance_to(self, q: float, t_end: float) -> None:
+    def advance_to(self, q: float, t_end: float, t_start: float | None = None) -> None:
         """Advance to the absolute time ``t_end`` [s] > :attr:`time` under a constant ``q``
-        [N]; :attr:`time` becomes exactly ``t_end`` (a host's own communication point)."""
+        [N]; :attr:`time` becomes exactly ``t_end`` (a host's own communication point). The
+        step starts at ``t_start`` when given (a host's value of the current time)."""
 
     def at_rest(self) -> bool:
         """True when a step under Q = 0 would leave the whole state unchanged, bit for bit
@@ -113,8 +114,15 @@ class ModelBase:
         self._check_step(q, h)
         self._step_to(float(q), h, self.time + h)
 
-    def advance_to(self, q: float, t_end: float) -> None:
-        """Advance to the absolute time ``t_end`` [s] under a constant force ``q`` [N]."""
+    def advance_to(self, q: float, t_end: float, t_start: float | None = None) -> None:
+        """Advance to the absolute time ``t_end`` [s] under a constant force ``q`` [N].
+
+        ``t_start`` [s], when given, is a host's own value of the current time (equal to
+        :attr:`time` to round-off of the host's clock): the step starts there, so a load
+        switched by the host takes effect at the host's instant.
+        """
+        if t_start is not None:
+            self.time = float(t_start)
         t_end = float(t_end)
         h = t_end - self.time
         self._check_step(q, h)

@@ -154,9 +154,10 @@ class PipePlug(Fmi2Slave):
                 or not current_time + step_size > t or not q - q == 0.0):
             return self._refuse_step(current_time, step_size)
         try:
-            # To the host's own point: hosts computing t = k h and t += h both get outputs
-            # at exactly their communication points (the model keeps no time of its own).
-            model.advance_to(q, current_time + step_size)
+            # From the host's point to the host's next point: hosts computing t = k h and
+            # t += h both get outputs at exactly their own points, and a Q they switch acts
+            # at their instant (the model keeps no clock of its own).
+            model.advance_to(q, current_time + step_size, current_time)
             out = model.outputs()
         except Exception as exc:
             self._fatal(f"the model failed at t = {t!r} s: {type(exc).__name__}: {exc}")

@@ -74,13 +74,15 @@ def env_without_site_hooks() -> dict:
 
 
 def closed_form(params: dict, times) -> dict:
-    """Model I closed form for the paper's pulse, by FMU output name (``pipeplug_harness``)."""
+    """Model I closed form for the paper's pulse (or one ending at ``params["t0"]``), by FMU
+    output name."""
     import numpy as np
 
     from pipeplug_references.closed_form import Case, solution
 
     case = Case(tau1=params.get("tau1", CONTRACT_PARAMETERS["tau1"][1]),
-                tau2=params.get("tau2", CONTRACT_PARAMETERS["tau2"][1]), Q0=Q0, t0=T0)
+                tau2=params.get("tau2", CONTRACT_PARAMETERS["tau2"][1]), Q0=Q0,
+                t0=params.get("t0", T0))
     sol = solution(case, np.asarray(times, dtype=float))
     return {name: sol[key] for name, key in CLOSED_FORM_NAMES.items()}
 

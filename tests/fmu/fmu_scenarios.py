@@ -142,6 +142,27 @@ def simulate_pulse(fmu_dir, cases, q0, t0, stop, interval):
     return {"runs": runs}
 
 
+def host_clock(fmu_dir, params, q0, t0, h, n_steps, clock):
+    """A host keeping its own clock, as C hosts and OMSimulator do: doStep(t, h) with a
+    constant h and t = k h (``clock = "k*h"``) or t += h (``"+=h"``); it switches Q off at its
+    first point t >= t0. Returns the points, the outputs and that switch time."""
+    slave = Slave(fmu_dir, clock)
+    if slave.start(params):
+        raise RuntimeError("initialization refused")
+    times, rows, t, switch = [0.0], [], 0.0, None
+    for k in range(1, n_steps + 1):
+        t_next = k * h if clock == "k*h" else t + h
+        if switch is None and t >= t0:
+            switch = t
+        if slave.step(t, h, q0 if switch is None else 0.0):
+            raise RuntimeError(f"doStep({t!r}, {h!r}) refused")
+        rows.append(slave.outputs())
+        times.append(t_next)
+        t = t_next
+    slave.close()
+    return {"times": times, "rows": rows, "switch": switch}
+
+
 def host_core_first(fmu_dir):
     """The host imports this repository's ``pipeplug`` before the FMU; v_pipe after 1 ms."""
     import pipeplug

@@ -8,7 +8,7 @@ import random
 
 import numpy as np
 import pytest
-from fmu_helpers import Q0, T0, assert_matches_closed_form, columns, run_scenario
+from fmu_helpers import Q0, T0, assert_matches_closed_form, closed_form, columns, run_scenario
 
 STOP = 0.3
 COARSE = [k / 100 for k in range(31)]                       # h = 10 ms
@@ -129,3 +129,19 @@ def test_state_restore_and_serialization_are_bit_identical(fmu_dir, params):
         assert json.dumps(result["after_restore"][name]) == json.dumps(result["saved_outputs"])
     assert result["restored_params"] == params
     assert result["log"] == []
+
+
+@pytest.mark.parametrize("clock", ["k*h", "+=h"])
+def test_hosts_keeping_their_own_clock_get_their_own_points(fmu_dir, clock):
+    """At h = 1e-5 the outputs equal the closed form at the host's points, for a pulse that
+    ends where the host switched Q, within 1e-14 of the peak (the FMU takes the host's time)."""
+    params = {"tau1": 2e4, "tau2": 1e4}
+    result = run_scenario("host_clock", fmu_dir, params=params, q0=Q0, t0=T0, h=1e-5,
+                          n_steps=6000, clock=clock)
+    times, switch = np.array(result["times"][1:]), result["switch"]
+    assert abs(switch - T0) < 1e-5
+    got = columns(result["rows"])
+    want = closed_form(dict(params, t0=switch), times)
+    for name in ("v_pipe", "v_plug", "u_pipe", "u_plug", "W_input", "W_friction"):
+        peak = np.max(np.abs(want[name]))
+        assert np.max(np.abs(np.asarray(got[name]) - want[name])) <= 1e-14 * peak, name
