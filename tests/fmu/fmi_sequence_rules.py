@@ -267,7 +267,7 @@ class FmiRules(RuleBasedStateMachine):
         else:
             self.expect(answer, inst, OK)
             inst.time = t + h
-            inst.mirror.advance_to(inst.q, t + h)       # the FMU steps to the host's time
+            inst.mirror.advance_to(inst.q, t + h, t)    # the FMU steps from the host's t to t + h
             inst.outputs = inst.mirror.outputs()._asdict()
             self.check_outputs(inst, inst.outputs)
             event(f"step taken: {inst.given.get('solver', 'exact')}"

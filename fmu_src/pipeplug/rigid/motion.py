@@ -102,7 +102,7 @@ class Motion:
             return math.atanh(v * w / -a) / w
         return _INF
 
-    def time_to_position(self, target: float, t_max: float) -> float:
+    def time_to_position(self, target: float, t_max: float, xtol: float = 0.0) -> float:
         """First time in (0, t_max] at which U(t) = ``target``, or ``inf``.
 
         The caller guarantees the motion is monotone on [0, t_max] (the velocity does not
@@ -115,7 +115,7 @@ class Motion:
         if self.k == 0.0:
             return _first_quadratic_root(0.5 * self.a0, self.V0, g0, t_max)
         return refine_root(lambda t: self.state(t)[0] - target,
-                           lambda t: self.state(t)[1], 0.0, t_max)
+                           lambda t: self.state(t)[1], 0.0, t_max, xtol)
 
 
 def _first_quadratic_root(a: float, b: float, c: float, t_max: float) -> float:
@@ -130,12 +130,13 @@ def _first_quadratic_root(a: float, b: float, c: float, t_max: float) -> float:
     return min(best, t_max)
 
 
-def refine_root(g, dg, a: float, b: float) -> float:
+def refine_root(g, dg, a: float, b: float, xtol: float = 0.0) -> float:
     """The root of ``g`` in a bracket [a, b] where ``g(a)`` and ``g(b)`` differ in sign.
 
     Safeguarded Newton: a Newton step from the latest iterate when it stays inside the
     bracket, bisection otherwise; the bracket shrinks with every evaluation. Stops when the
-    update or the bracket is a few ulps wide. Returns a time in (a, b].
+    update or the bracket is a few ulps wide, or narrower than ``xtol`` (the caller's time
+    resolution: below it a root is no better known). Returns a time in (a, b].
 
     Newton converges from one side on a convex or concave ``g``, so the far bracket end may
     never move: a converged Newton iterate is the answer, not that end.
@@ -158,7 +159,7 @@ def refine_root(g, dg, a: float, b: float) -> float:
             b, gb = new, g_new
         if abs(new - t) <= 4.0 * math.ulp(new):
             return new
-        if b - a <= 4.0 * math.ulp(b):
+        if b - a <= max(4.0 * math.ulp(b), xtol):
             return b
         t, gt = new, g_new
     return b

@@ -42,6 +42,11 @@ class _Piece:
         """Time after ``t0`` of the first event within ``horizon`` [s], and its labels."""
         return _INF, ()
 
+    def _resolution(self, t_lim: float) -> float:
+        """The resolution of absolute time near ``t0 + t_lim`` [s]: an event time after
+        ``t0`` is not better known than this, so root searches stop there."""
+        return 2.0 * math.ulp(self.t0 + t_lim)
+
 
 class AtRest(_Piece):
     """Pipe stuck to the soil and plug stuck to the pipe (both at rest)."""
@@ -125,7 +130,8 @@ class Together(_Piece):
         t_rest = body.time_to_rest(s1)
         t_lim = min(t_rest, horizon)
         found = [(t_rest, "pipe_rest")]
-        found.append((body.time_to_position(self.end, t_lim), "segment"))
+        found.append((body.time_to_position(self.end, t_lim, self._resolution(t_lim)),
+                      "segment"))
         if self.plug_limit is not None and body.k != 0.0:
             found.extend(self._breakaways(t_lim))
         return _earliest(found)
@@ -146,7 +152,7 @@ class Together(_Piece):
                     yield 0.0, label
                 continue
             U_lim = self.U1 + (body.a0 - s * limit) / body.k
-            yield body.time_to_position(U_lim, t_lim), label
+            yield body.time_to_position(U_lim, t_lim, self._resolution(t_lim)), label
 
 
 class BothSlide(_Piece):
@@ -176,7 +182,8 @@ class BothSlide(_Piece):
         pipe = self.pipe
         t_rest = pipe.time_to_rest(self.s1)
         t_lim = min(t_rest, horizon)
-        found = [(t_rest, "pipe_rest"), (pipe.time_to_position(self.end, t_lim), "segment"),
+        xtol = self._resolution(t_lim)
+        found = [(t_rest, "pipe_rest"), (pipe.time_to_position(self.end, t_lim, xtol), "segment"),
                  (self._time_to_stick(t_lim), "stick")]
         return _earliest(found)
 
@@ -201,7 +208,8 @@ class BothSlide(_Piece):
         def dg(t):
             return pipe.acceleration_at(pipe.state(t)[0]) - plug.a0
 
-        t_mid = min(pipe.time_to_position(self.U1 + da / pipe.k, t_lim), t_lim)
+        xtol = self._resolution(t_lim)
+        t_mid = min(pipe.time_to_position(self.U1 + da / pipe.k, t_lim, xtol), t_lim)
         a = 0.0
         for b in (t_mid, t_lim):
             if b <= a:
@@ -209,7 +217,7 @@ class BothSlide(_Piece):
             gb = s2 * g(b)
             if gb <= 0.0:
                 if s2 * g(a) > 0.0:
-                    return b if gb == 0.0 else refine_root(g, dg, a, b)
+                    return b if gb == 0.0 else refine_root(g, dg, a, b, xtol)
                 if a > 0.0 or self.V1 != self.V2:
                     return a
                 # Started at zero relative velocity (a breakaway): there the relative

@@ -117,3 +117,18 @@ def test_breakaway_and_stick_do_not_alternate_forever():
                                                             37344.14545231719)]
     final = _check_grid_independent_and_balanced(params, segments, 0.308848100639877)
     assert math.isfinite(final[0])
+
+
+def test_crossing_sooner_than_time_can_resolve_is_taken_at_once():
+    """A load of 2.6e-254 N leaves the pipe 1e-262 m in; pulled back at -1 N it recrosses 0
+    after about 1e-131 s, a nearly double root that Newton approaches only linearly. The search
+    stops at the resolution of absolute time instead of returning an event 3e-14 s late (which
+    the segment check rejected). Model II with tau1 = 1 Pa; derived: the pipe then moves as
+    M1 U'' = -1 N, free of the soil (no contact behind its start)."""
+    model = build_model({"tau1": 1.0, "tau2": 0.0, "L2": 0.0}, {"contact_growth": True})
+    model.advance(2.648521645394783e-254, 0.015625)
+    model.advance(-1.0, 0.015625)
+    out = model.outputs()
+    m1 = Params().M1
+    assert out.v_pipe == pytest.approx(-0.015625 / m1, rel=1e-12)
+    assert out.u_pipe == pytest.approx(-0.5 * 0.015625 ** 2 / m1, rel=1e-12)
