@@ -3,7 +3,7 @@
 
     python dev.py          the main job: set up .venv, build dist/PipePlug.fmu, validate it
                            against the analytic solutions and print the table
-    python dev.py test     the linter (ruff), then the whole test suite
+    python dev.py test     the linters (ruff, the import contracts), then the whole test suite
 
 The virtual environment is made in ``.venv`` beside this file and (re)installed whenever
 ``pyproject.toml`` changes. Extra arguments after ``test`` go to pytest.
@@ -50,6 +50,7 @@ def main(argv: list[str]) -> None:
     ensure_environment()
     if argv[:1] == ["test"]:
         _run(PYTHON, "-m", "ruff", "check", ".")
+        _run(BIN / "lint-imports")
         _run(PYTHON, "-m", "pytest", "-n", "2", "-q", *argv[1:])
     elif not argv:
         _run(PYTHON, "build_fmu.py")

@@ -5,12 +5,7 @@ import io
 
 import numpy as np
 
-__all__ = ["state_to_bytes", "state_from_bytes", "copy_state"]
-
-
-def copy_state(state: dict) -> dict:
-    """A deep copy of a state dict (arrays copied, scalars shared: they are immutable)."""
-    return {k: (v.copy() if isinstance(v, np.ndarray) else v) for k, v in state.items()}
+__all__ = ["state_to_bytes", "state_from_bytes"]
 
 
 def state_to_bytes(state: dict) -> bytes:

@@ -23,8 +23,6 @@ from scipy.integrate import odeint, solve_ivp
 
 from .cases import BenchCase
 
-#: methods: solve_ivp's, and "odeint" (LSODA through ODEPACK's own driver)
-METHODS = ("LSODA", "Radau", "BDF", "odeint")
 #: right-hand-side evaluations after which a run is abandoned as failed: some settings (tiny eps
 #: with a loose tolerance) make LSODA retry for minutes before giving up
 MAX_CALLS = 20_000

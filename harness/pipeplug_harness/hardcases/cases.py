@@ -26,7 +26,7 @@ import numpy as np
 
 from pipeplug_references import closed_form as cf
 
-__all__ = ["HardCase", "CATALOGUE", "QUICK", "by_name", "Q0", "T0"]
+__all__ = ["HardCase", "CATALOGUE", "QUICK", "Q0", "T0"]
 
 Q0, T0 = 23000.0, 0.05                   # the paper's blow: amplitude [N], duration [s]
 BASE = cf.Case()                         # the paper's parameters (tau1 = 0, tau2 = 0.01 MPa)
@@ -166,11 +166,3 @@ CATALOGUE: tuple[HardCase, ...] = (
 
 #: The cases of ``pipeplug stability --quick``.
 QUICK = ("boundary I/II", "pulled back", "grazing", "elastic Courant 1")
-
-
-def by_name(name: str) -> HardCase:
-    """The catalogue entry called ``name``."""
-    for case in CATALOGUE:
-        if case.name == name:
-            return case
-    raise KeyError(name)

@@ -98,12 +98,8 @@ def energy_residual(model, out: dict) -> float:
     """
     o = model.outputs()
     w_in = abs(o.W_input)
-    if hasattr(model, "energies"):
-        kinetic, elastic, reversing = model.energies()
-        rest = kinetic + elastic + reversing
-    else:
-        m2 = getattr(model, "M2", 0.0) or 0.0
-        rest = 0.5 * (model.M1 * o.v_pipe ** 2 + m2 * o.v_plug ** 2)
+    kinetic, elastic, reversing = model.energies()
+    rest = kinetic + elastic + reversing
     return (o.W_input - rest - o.W_friction) / w_in if w_in > 0.0 else 0.0
 
 

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import math
 import sys
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from pathlib import Path
 
 if sys.version_info >= (3, 11):
@@ -71,7 +71,6 @@ class Scene:
     step: float
     variables: list
     reason: str = ""
-    notes: list = field(default_factory=list)
 
 
 def load_scene(path: str | Path) -> Scene:
