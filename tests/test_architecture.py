@@ -20,3 +20,18 @@ def test_a_cycle_would_be_found():
     graph.add_import(importer="p.a", imported="p.b")
     graph.add_import(importer="p.b", imported="p.a")
     assert graph.chain_exists(importer="p.b", imported="p.a")
+
+
+def test_every_test_cited_by_the_corrections_exists():
+    """docs/corrections.md says which test keeps each correction checked: those tests exist."""
+    import re
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    cited = set(re.findall(r"\btest_\w+", (root / "docs" / "corrections.md").read_text()))
+    cited -= {name for name in cited if name.endswith("_")}       # file-name fragments
+    defined = set()
+    for path in (root / "tests").rglob("test_*.py"):
+        defined |= set(re.findall(r"^def (test_\w+)", path.read_text(), re.M))
+        defined.add(path.stem)
+    assert cited and cited <= defined, sorted(cited - defined)

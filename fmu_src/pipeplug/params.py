@@ -3,7 +3,7 @@
 This is the one place where defaults live. The FMU's start values, the harness and the
 tests all read them from :data:`PARAMETERS`.
 
-Derived quantities (paper, section 1, with ERRATA A6: P1 outer, P2 inner)::
+Derived quantities (paper, section 1, with docs/corrections.md A6: P1 outer, P2 inner)::
 
     P1 = 2 pi (R1 + h1)            outer perimeter of the pipe        [m]
     P2 = 2 pi R1                   inner perimeter of the pipe        [m]

@@ -20,8 +20,8 @@ def test_defaults_are_the_contracts():
 
 def test_derived_quantities_match_the_paper():
     p = Params()
-    assert p.M1 == pytest.approx(5.3665, abs=1e-4)       # paper: 5.37 kg, ERRATA: 5.3665
-    assert p.M2 == pytest.approx(6.9272, abs=1e-4)       # paper: 6.93 kg, ERRATA: 6.9272
+    assert p.M1 == pytest.approx(5.3665, abs=1e-4)       # paper: 5.37 kg, docs/corrections.md A6: 5.3665
+    assert p.M2 == pytest.approx(6.9272, abs=1e-4)       # paper: 6.93 kg, docs/corrections.md A6: 6.9272
     assert 23000 / (p.P1 * p.L1) == pytest.approx(96330.62, abs=0.01)   # tau*
     assert p.P2 > p.P1 * 0.9 and p.P1 == pytest.approx(2 * math.pi * 0.038)
 

@@ -3,7 +3,7 @@
 The friction of the soil on a pipe sliding in direction ``s1`` is ``f1 = -s1 P1 tau1 Lc(U)``:
 
 * :class:`ConstantContact` (model I): ``Lc = L1``.
-* :class:`GrowingContact` (model II, ERRATA C8/F): ``Lc = min(max(U, 0), L1)``; on each of its
+* :class:`GrowingContact` (model II, docs/corrections.md C8/F): ``Lc = min(max(U, 0), L1)``; on each of its
   three segments ``f1`` is affine in ``U``, so a sliding body moves harmonically (forward),
   hyperbolically (backward) or uniformly (no contact, or full contact).
 * :class:`NoContact` (tau1 = 0): absent.

@@ -1,6 +1,6 @@
 """Model III: pipe and plug as elastic rods with distributed Coulomb friction.
 
-Equations (paper eqs. (12)-(14), with the outer friction ERRATA D4 notes as omitted)::
+Equations (paper eqs. (12)-(14), with the outer friction docs/corrections.md D4 notes as omitted)::
 
     rho1 S1 u1_tt = E1 S1 u1_xx - P2 tau2 Sign(u1_t - u2_t) - P1 tau1 Sign(u1_t) chi(x)
     rho2 S2 u2_tt = E2 S2 u2_xx + P2 tau2 Sign(u1_t - u2_t)          (x in [L1-L2, L1])
@@ -16,7 +16,7 @@ Masses are the full cells. Velocities take a kick from the force differences, th
 two-contact Coulomb projection node by node (:mod:`pipeplug.contact.coulomb`); the forces then
 drift with the new velocities. At Courant number 1 this transports the rod's waves exactly
 (d'Alembert) with no odd-even decoupling: node-centred velocities with half masses at the ends
-alternate between 0 and twice the wave velocity at the struck end (ERRATA D6).
+alternate between 0 and twice the wave velocity at the struck end (docs/corrections.md D6).
 
 Stepping: a communication step h is taken as n = ceil(h/h_max - 1e-9) equal internal steps,
 h_max = courant dx / c_fastest. The outputs follow the contract's section rule.

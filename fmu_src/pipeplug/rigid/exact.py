@@ -1,6 +1,6 @@
 """Exact event-driven solver of the rigid models I and II (to round-off).
 
-Equations (paper eqs. (1)-(3) and (11), ERRATA A6, B4, C7/C8)::
+Equations (paper eqs. (1)-(3) and (11), docs/corrections.md A6, B4, C7/C8)::
 
     M1 U1'' = Q + f1 + f2,      M2 U2'' = -f2
     f1 in -P1 Lc tau1 Sign(U1'),   f2 in -P2 L2 tau2 Sign(U1' - U2')

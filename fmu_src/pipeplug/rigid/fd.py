@@ -1,12 +1,12 @@
 """The paper's explicit finite-difference scheme for the rigid models (section 2), corrected.
 
-Scheme (ERRATA B1: ``U^{n-1}`` on the right-hand side), step ``tau``::
+Scheme (docs/corrections.md B1: ``U^{n-1}`` on the right-hand side), step ``tau``::
 
     U1^{n+1} - 2 U1^n + U1^{n-1} = tau^2 (Q^n + f1 + f2) / M1
     U2^{n+1} - 2 U2^n + U2^{n-1} = -tau^2 f2 / M2
 
 written with the step velocities ``v^{n+1/2} = (U^{n+1} - U^n) / tau``. The friction terms come
-from the paper's "fictitious velocity" test, generalised (ERRATA B4) to solving both contacts
+from the paper's "fictitious velocity" test, generalised (docs/corrections.md B4) to solving both contacts
 jointly at the impulse level (:func:`pipeplug.contact.coulomb.two_contacts`): the frictionless
 trial velocities are projected with impulse limits ``tau P1 Lc(U1^n) tau1`` and
 ``tau P2 L2 tau2``; a contact whose trial relative velocity cannot overcome its limit sticks

@@ -1,6 +1,6 @@
 """``pipeplug figures``: the paper's Figs. 3, 4, 5, 6a, 6b and 7 redrawn from FMU runs.
 
-Parameters come from the captions and the text (section 3; ERRATA C1-C8, D1, F). Each panel
+Parameters come from the captions and the text (section 3; docs/corrections.md C1-C8, D1, F). Each panel
 shows the FMU's pipe velocity (solid) and plug velocity (dash-dot) with the reference overlaid
 (thin black dotted: the closed form of model I; for model II, which has no closed form, the
 exact solver run with a 10x finer communication step), the event times t0...t7 as vertical
@@ -40,7 +40,7 @@ def _rigid_run(fmu, case: cf.Case, options: dict, step: float = 5e-4, stop: floa
 
 
 def _levels(fig: str) -> dict[str, float]:
-    """The paper's horizontal levels U* and U** (ERRATA C4) [m/s]."""
+    """The paper's horizontal levels U* and U** (docs/corrections.md C4) [m/s]."""
     u_pipe = BASE.Q0 * BASE.t0 / BASE.M1
     u_both = BASE.Q0 * BASE.t0 / (BASE.M1 + BASE.M2)
     u2 = lambda alpha: BASE.Q0 * BASE.t0 * BASE.beta / BASE.M2 / (BASE.gamma + alpha)  # noqa
@@ -118,7 +118,7 @@ def draw_rigid_figure(fig: str, out: Path, fmu=DEFAULT_FMU) -> Path:
 
 
 def draw_fig7(out: Path, fmu=DEFAULT_FMU) -> Path:
-    """Fig. 7: pipe velocity at x = L1/2, elastic model III vs rigid model I (ERRATA D1)."""
+    """Fig. 7: pipe velocity at x = L1/2, elastic model III vs rigid model I (docs/corrections.md D1)."""
     import matplotlib.pyplot as plt
     case = replace(BASE, tau1=0.0, tau2=1e4)
     pulses = [Pulse(0.0, case.t0, case.Q0)]

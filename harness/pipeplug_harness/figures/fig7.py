@@ -1,10 +1,10 @@
 """The paper's Fig. 7 scene (model III against model I) and its convergence under dx refinement.
 
-Scene (paper section 4, ERRATA D1): default geometry, E1 = 195e9 Pa, E2 = 0.6e9 Pa, tau1 = 0,
+Scene (paper section 4, docs/corrections.md D1): default geometry, E1 = 195e9 Pa, E2 = 0.6e9 Pa, tau1 = 0,
 tau2 = 1e4 Pa, one rectangular pulse Q0 = 23000 N for t0 = 0.05 s, observed to 0.08 s at the
 pipe section x = L1/2. These are the package defaults with ``elastic = True``.
 
-Model I for this scene is domain II with tau1 = 0 (ERRATA A8): the pipe slides on the plug
+Model I for this scene is domain II with tau1 = 0 (docs/corrections.md A8): the pipe slides on the plug
 during the whole pulse, so its velocity peaks at t0 with V1 = (Q0 - F2) t0 / M1, F2 = P2 L2 tau2.
 """
 from __future__ import annotations

@@ -3,10 +3,10 @@
 A hard case is a load history (rectangular pulses, held constant between communication points)
 on a parameter set chosen to sit where dry-friction integrators break: exactly on a domain
 boundary of model I, at the points where domains meet, near a boundary (the paper's Fig. 4
-curve 3 and Fig. 5 curve 5, ERRATA C1/C2), with a friction limit switched off or far above
+curve 3 and Fig. 5 curve 5, docs/corrections.md C1/C2), with a friction limit switched off or far above
 the load, with extreme plug masses, with the pipe pulled back, with blows that arrive while
 the pipe moves, with load edges on no grid, with communication steps much longer or much
-shorter than the spacing of events and the internal step, with simultaneous events (ERRATA
+shorter than the spacing of events and the internal step, with simultaneous events (corrections
 A7: t3 = t4 = t5 on the I/II boundary), with grazing (velocity and acceleration reach zero
 together), and for the elastic model at Courant 1 and below, with a soft plug and a blow much
 shorter than the wave round trip.
@@ -91,7 +91,7 @@ _TB = Q0 * _TA / F1_20K             # ... and the exact stop of the pipe alone (
 _RIGID_ONLY = ("exact", "fd")
 
 CATALOGUE: tuple[HardCase, ...] = (
-    # Domain boundaries of model I (ERRATA A7) and the points where domains meet.
+    # Domain boundaries of model I (docs/corrections.md A7) and the points where domains meet.
     HardCase("boundary I/II", "tau1 = gamma tau2: t3 = t4 = t5, pipe stops as the plug sticks",
              _taus(_G * 1e4, 1e4)),
     HardCase("boundary I/III", "tau1 + gamma tau2 = tau*, tau1 = 2 tau2: t1 = t0",
@@ -107,8 +107,8 @@ CATALOGUE: tuple[HardCase, ...] = (
     HardCase("point I/III/V", "tau1 = tau*, tau2 = 0", _taus(_TS, 0.0)),
     HardCase("point III/IV/V", "tau1 = tau* = gamma tau2", _taus(_TS, _TS / _G)),
     # The paper's near-boundary curves.
-    HardCase("Fig. 4 curve 3", "ERRATA C1: domain I, t1 - t0 = 7.3 us", _taus(0.053e6, 0.0265e6)),
-    HardCase("Fig. 5 curve 5", "ERRATA C2: domain II, t1 - t0 = 27.8 us", _taus(0.0, 0.0589e6),
+    HardCase("Fig. 4 curve 3", "docs/corrections.md C1: domain I, t1 - t0 = 7.3 us", _taus(0.053e6, 0.0265e6)),
+    HardCase("Fig. 5 curve 5", "docs/corrections.md C2: domain II, t1 - t0 = 27.8 us", _taus(0.0, 0.0589e6),
              stops=False),
     # Limits switched off or far above the load; extreme plug masses.
     HardCase("tau1 = 0", "no soil friction: the pair never stops", _taus(0.0, 1e4), stops=False),

@@ -74,7 +74,7 @@ def test_one_contact(w1, expected):
 
 
 def test_sliding_plug_drags_a_stopped_pipe():
-    # ERRATA B4: with F2 > F1 a plug sliding forward drags a stopped pipe (the paper's
+    # docs/corrections.md B4: with F2 > F1 a plug sliding forward drags a stopped pipe (the paper's
     # sequential test with k2 = 0 would leave the pipe at rest).
     m1, m2, F1, F2 = 1.0, 1.0, 1.0, 3.0
     # accelerations: pipe at rest, plug moving forward relative to it -> f2 = +F2 on the pipe

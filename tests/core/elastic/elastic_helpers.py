@@ -5,7 +5,7 @@ import numpy as np
 
 from pipeplug import Params, build_model
 
-#: The paper's Fig. 7 scene (section 4, ERRATA D1): defaults with elastic rods.
+#: The paper's Fig. 7 scene (section 4, docs/corrections.md D1): defaults with elastic rods.
 Q0, T0 = 23000.0, 0.05  # N, s
 
 

@@ -74,7 +74,7 @@ def test_stiff_rods_tend_to_the_rigid_models(case, growth, horizon):
 
 
 def test_domain_I_final_displacements_of_the_rigid_model():
-    """ERRATA A1 table (corrected formulas): U1(inf) = 13.4727 m, U2(inf) = 5.5750 m."""
+    """docs/corrections.md A1 table (corrected formulas): U1(inf) = 13.4727 m, U2(inf) = 5.5750 m."""
     rigid = build_model(dict(tau1=2e4, tau2=1e4), {"solver": "exact"})
     rigid.advance(Q0, T0)
     rigid.advance(0.0, 0.25)

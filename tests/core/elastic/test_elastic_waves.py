@@ -68,7 +68,7 @@ def test_incident_wave_and_free_end_doubling_at_sections():
 
 
 def test_no_odd_even_decoupling_under_a_step_load():
-    """ERRATA D6: the cross scheme at Courant 1 alternates 72.1, 5.5, 72.1 m/s at t = 10 ms.
+    """docs/corrections.md D6: the cross scheme at Courant 1 alternates 72.1, 5.5, 72.1 m/s at t = 10 ms.
 
     Here consecutive steps stay within one wave jump Q0/Z of the rigid velocity
     (Q0 - F2) t / M1 (the elastic velocity oscillates around it by at most half a jump, plus

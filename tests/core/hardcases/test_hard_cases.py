@@ -1,8 +1,8 @@
 """Hard cases checked event by event: simultaneous events, near-boundary switches, loads at
 the friction limit, absent contacts, grazing, comm steps below the fd step, Courant 1.
 
-Expected values come from the paper's formulas as corrected by its ERRATA (t1, t3 = t4 = t5
-= 2 t1 on the I/II boundary, the 7.3 us and 27.8 us of ERRATA C1/C2) or from hand
+Expected values come from the paper's formulas as corrected in docs/corrections.md (t1, t3 = t4 = t5
+= 2 t1 on the I/II boundary, the 7.3 us and 27.8 us of docs/corrections.md C1/C2) or from hand
 derivation (stated in each test).
 """
 from __future__ import annotations
@@ -37,7 +37,7 @@ def _modes_at(params: dict, times: list[float], solver: str = "exact"):
 
 
 def test_pipe_stops_as_the_plug_sticks_on_the_I_II_boundary():
-    """ERRATA A7: on tau1 = gamma tau2, t3 = t4 = t5 = 2 t1: both contacts stick at once."""
+    """docs/corrections.md A7: on tau1 = gamma tau2, t3 = t4 = t5 = 2 t1: both contacts stick at once."""
     tau2 = 1e4
     tau1 = GAMMA * tau2
     t_stop = 2.0 * _t1(tau1, tau2)
@@ -53,7 +53,7 @@ def test_pipe_stops_as_the_plug_sticks_on_the_I_II_boundary():
 ])
 def test_near_boundary_curves_switch_at_the_errata_times(tau1, tau2, slip, after_t1,
                                                          errata_gap):
-    """ERRATA C1/C2: the plug slips past t0 by 7.3 us (Fig. 4/3) or 27.8 us (Fig. 5/5)."""
+    """docs/corrections.md C1/C2: the plug slips past t0 by 7.3 us (Fig. 4/3) or 27.8 us (Fig. 5/5)."""
     gap = _t1(tau1, tau2) - T0
     assert gap == pytest.approx(errata_gap, abs=0.05e-6)
     (early, late) = _modes_at({"tau1": tau1, "tau2": tau2},
@@ -141,7 +141,7 @@ def test_fd_communication_steps_shorter_than_dt_refine_the_scheme():
 
 
 def test_elastic_at_courant_1_has_no_odd_even_decoupling():
-    """ERRATA D6: the node-centred cross scheme at Courant 1 alternates 72.1 / 5.5 m/s at
+    """docs/corrections.md D6: the node-centred cross scheme at Courant 1 alternates 72.1 / 5.5 m/s at
     10 ms (tau2 = 0.01 MPa). Rigid model I (domain II, tau1 = 0): V1 = (Q0 - F2) t / M1."""
     m = model("elastic", {"dx": 0.01})
     h = m.grid.h_max

@@ -104,7 +104,7 @@ def test_more_outer_friction_never_gives_more_penetration(params, growth, steps,
 @pytest.mark.parametrize("solver", ["exact", "fd", "elastic"])
 def test_more_plug_friction_can_give_more_penetration(solver):
     """Counterexample to monotonicity in tau2, tau1 = 0.07 MPa, the paper's blow:
-    tau2 = 0.035 MPa (domain III): U1(inf) = 0.8338 m (ERRATA A1);
+    tau2 = 0.035 MPa (domain III): U1(inf) = 0.8338 m (docs/corrections.md A1);
     tau2 = 0.065 MPa (domain IV, stuck together throughout; hand: the pair gains the
     impulse (Q0 - F1) t0 and coasts against F1): U1(inf) = Q0 (Q0 - F1) t0^2 / (2 (M1+M2) F1)
     = 0.8797 m. More plug friction keeps the plug's momentum with the pipe, so it goes further."""

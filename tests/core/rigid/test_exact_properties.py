@@ -1,4 +1,4 @@
-"""Exact rigid solver: values from ERRATA, energy to round-off, grid independence, state."""
+"""Exact rigid solver: values from docs/corrections.md, energy to round-off, grid independence, state."""
 
 import numpy as np
 import pytest
@@ -43,7 +43,7 @@ def test_errata_a2_stop_times_of_domain_iii():
 
 
 TAU_CAPPED = [0.0, 5e3, 14e3, 28e3, None, 65e3]
-PEAK_CAPPED = [214.3, 196.2, 164.2, 116.0, 88.0, 59.0]   # ERRATA C8, model II, min(U1, L1)
+PEAK_CAPPED = [214.3, 196.2, 164.2, 116.0, 88.0, 59.0]   # docs/corrections.md C8, model II, min(U1, L1)
 
 
 @pytest.mark.parametrize("tau, peak", list(zip(TAU_CAPPED, PEAK_CAPPED)))
@@ -175,7 +175,7 @@ def _run_velocities(tau1, tau2, t_end=0.4, n=400):
 
 @pytest.mark.parametrize("tau2", [0.01e6, 0.02e6, 0.03e6, 0.05e6, 0.0589e6])
 def test_fig5_all_curves_reach_the_common_level_u_star(tau2):
-    # ERRATA C4: with tau1 = 0 pipe and plug end at Q0 t0 / (M1 + M2) = 93.54 m/s.
+    # docs/corrections.md C4: with tau1 = 0 pipe and plug end at Q0 t0 / (M1 + M2) = 93.54 m/s.
     v1, v2 = _run_velocities(0.0, tau2)
     assert v1[-1] == pytest.approx(93.54, abs=0.005) and v2[-1] == pytest.approx(v1[-1])
 
@@ -183,7 +183,7 @@ def test_fig5_all_curves_reach_the_common_level_u_star(tau2):
 @pytest.mark.parametrize("ratio, level, taus", [(2.0, 42.07, [0.02e6, 0.053e6]),
                                                 (1.0, 58.04, [0.005e6, 0.014e6, 0.028e6])])
 def test_fig4_and_fig6a_velocities_level_at_u_double_star(ratio, level, taus):
-    # ERRATA C4: when the relative velocity first vanishes (t1 = tau* t0 / (tau1 + gamma
+    # docs/corrections.md C4: when the relative velocity first vanishes (t1 = tau* t0 / (tau1 + gamma
     # tau2), section 1), both bodies move at U** whatever tau1 = alpha tau2 is.
     p = Params()
     gamma = p.P2 / p.P1 * (1 + p.M1 / p.M2)

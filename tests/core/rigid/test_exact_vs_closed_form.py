@@ -1,4 +1,4 @@
-"""The exact solver against the independent closed form of model I (domains I-V, ERRATA A)."""
+"""The exact solver against the independent closed form of model I (domains I-V, docs/corrections.md A)."""
 import math
 
 import numpy as np

@@ -29,7 +29,7 @@ def test_unknown_keys_and_values_name_the_allowed_ones(tmp_path, text, match):
 
 
 def test_auto_picks_rigid_for_long_blows_and_elastic_for_short_ones(tmp_path):
-    c1 = math.sqrt(1.95e11 / 7800)                       # 5000 m/s, ERRATA D1
+    c1 = math.sqrt(1.95e11 / 7800)                       # 5000 m/s, docs/corrections.md D1
     round_trip = 2 * 1.0 / c1
     long = load_scene(_write(tmp_path, f"[blows]\nduration = {AUTO_RATIO * round_trip * 1.01}\n"))
     short = load_scene(_write(tmp_path, f"[blows]\nduration = {AUTO_RATIO * round_trip * 0.99}\n"))
@@ -51,7 +51,7 @@ def test_scene_runs_through_the_fmu(pipeplug_cli, fmu_file, tmp_path):
                         "--out", tmp_path / "o")
     assert "rigid model" in proc.stdout
     rows = list(csv.DictReader(open(tmp_path / "o" / "paper_fig5_curve1.csv")))
-    # Fig. 5 curve 1 ends with pipe and plug together at Q0 t0/(M1 + M2) = 93.54 m/s (ERRATA C4)
+    # Fig. 5 curve 1 ends with pipe and plug together at Q0 t0/(M1 + M2) = 93.54 m/s (docs/corrections.md C4)
     assert float(rows[-1]["v_pipe"]) == pytest.approx(93.54, abs=0.005)
     assert float(rows[-1]["time"]) == pytest.approx(0.35)
     assert (tmp_path / "o" / "paper_fig5_curve1.png").stat().st_size > 10_000

@@ -48,7 +48,7 @@ def cross_check_as_a_third_party(fmu_file, folder):
 
 
 def test_validate_fails_on_a_wrong_fmu(pipeplug_cli, fmu_file, tmp_path):
-    # A copy whose core takes P2 as the outer perimeter (ERRATA A6) must fail (exit 1).
+    # A copy whose core takes P2 as the outer perimeter (docs/corrections.md A6) must fail (exit 1).
     import shutil
     import zipfile
     bad = tmp_path / "Bad.fmu"
