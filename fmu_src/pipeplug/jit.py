@@ -2,7 +2,9 @@
 
 Kernels and their helpers are written once, as plain Python over floats and arrays. Helpers are
 marked with :func:`jitable`; a kernel is compiled by :func:`compiled` when a model first asks
-for it. Only then is numba imported (so a rigid model, or a host without numba, never imports
+for it. A helper that Python runs best with array operations and compiled code best as a loop
+is marked with :func:`compiled_form`, naming its loop form (both forms compute the same values
+with the same helpers). Only then is numba imported (so a rigid model, or a host without numba, never imports
 it), the marked helpers are registered with numba (they stay plain functions for Python
 callers), and the kernel is compiled in ``nopython`` mode with IEEE arithmetic (no fast-math:
 the compiled and the Python path give the same numbers). Without numba, or with the
@@ -23,12 +25,14 @@ import os
 import sys
 from pathlib import Path
 
-__all__ = ["jitable", "compiled", "enabled", "NO_JIT_ENV", "CACHE_DIR_ENV", "cache_folder"]
+__all__ = ["jitable", "compiled_form", "compiled", "enabled", "NO_JIT_ENV", "CACHE_DIR_ENV",
+           "cache_folder"]
 
 NO_JIT_ENV = "PIPEPLUG_NO_JIT"
 CACHE_DIR_ENV = "PIPEPLUG_CACHE_DIR"
 _PACKAGE = __name__.rpartition(".")[0] or "pipeplug"
 _HELPERS: list = []                 # functions marked jitable, registered at the first compile
+_FORMS: list = []                   # (function, its compiled form), registered likewise
 _COMPILED: dict = {}                # plain kernel -> its compiled dispatcher
 _numba = None                       # the numba module once imported; False when unavailable
 
@@ -50,11 +54,41 @@ _SOURCES_KEY = _digest_sources()    # now, while the files are surely there
 
 def jitable(func):
     """Mark ``func`` as callable from compiled kernels; it is returned unchanged."""
+    if func in _HELPERS:
+        return func
     _HELPERS.append(func)
     if _numba:                      # numba already set up: register now
         from numba.extending import register_jitable
         register_jitable(func)
     return func
+
+
+def compiled_form(form):
+    """Decorator: compiled kernels that call the decorated function run ``form`` instead.
+
+    ``form`` takes the same arguments and gives the same results, computed in a way that suits
+    compiled code (a loop where Python uses array operations); it is marked :func:`jitable`.
+    Python callers get the decorated function unchanged.
+    """
+    def mark(func):
+        jitable(form)
+        _FORMS.append((func, form))
+        if _numba:
+            _register_form(func, form)
+        return func
+    return mark
+
+
+def _register_form(func, form) -> None:
+    """Make compiled calls of ``func`` run ``form`` (a numba overload with its signature)."""
+    import inspect
+
+    from numba.extending import overload
+
+    def typer(*args):
+        return form
+    typer.__signature__ = inspect.signature(form)
+    overload(func)(typer)
 
 
 def enabled() -> bool:
@@ -104,6 +138,8 @@ def _load_numba():
             _install_cache_locator()
             for helper in _HELPERS:
                 register_jitable(helper)
+            for func, form in _FORMS:
+                _register_form(func, form)
             _numba = numba
     return _numba or None
 

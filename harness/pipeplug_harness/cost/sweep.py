@@ -49,6 +49,8 @@ class Config:
         Relative tolerance of the creep study's LSODA runs.
     repeats : int
         Most repeats of a timing (best taken).
+    batch_cases : int
+        Cases of the batch throughput measurement.
     """
 
     cases: list
@@ -62,6 +64,7 @@ class Config:
     creep_eps: tuple
     creep_rtol: float
     repeats: int
+    batch_cases: int
 
 
 def progress(message: str) -> None:

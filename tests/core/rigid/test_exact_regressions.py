@@ -13,7 +13,10 @@ import pytest
 
 from pipeplug import Params, build_model
 from pipeplug.options import Options
+from pipeplug.rigid import pieces, record, stepping
 from pipeplug.rigid.exact import RigidExact
+from pipeplug.rigid.motion import state, time_to_position, time_to_rest
+from pipeplug.rigid.pieces import pipe_of
 
 
 def _run(params, segments, grid):
@@ -63,15 +66,15 @@ def test_root_search_returns_the_converged_root_not_the_far_bracket_end():
     """The pipe's harmonic piece after the issue's blow crosses L1 = 1 m at 8.74 ms; searched
     up to its stop (32 ms), Newton converged from the left, the bracket's right end never
     moved, and the stop time was returned as the crossing."""
-    model = build_model(ISSUE_CASE, {"contact_growth": True})
+    model = build_model(ISSUE_CASE, {"contact_growth": True}, compiled=False)
     model.advance(23e3, ISSUE_BLOW)
     model.advance(0.0, 1e-9)
-    pipe = model._piece.pipe                         # the pipe's motion after the blow
-    t_stop = pipe.time_to_rest(1)
-    t_cross = pipe.time_to_position(1.0, t_stop)
+    pipe = pipe_of(model._st)                        # the pipe's motion after the blow
+    t_stop = time_to_rest(pipe, 1)
+    t_cross = time_to_position(pipe, 1.0, t_stop)
     assert t_cross < 0.5 * t_stop
-    assert abs(pipe.state(t_cross)[0] - 1.0) <= 4e-16
-    assert pipe.state(t_cross * (1.0 - 1e-12))[0] < 1.0 < pipe.state(t_cross * (1 + 1e-12))[0]
+    assert abs(state(pipe, t_cross)[0] - 1.0) <= 4e-16
+    assert state(pipe, t_cross * (1.0 - 1e-12))[0] < 1.0 < state(pipe, t_cross * (1 + 1e-12))[0]
 
 
 def test_pipe_reaching_L1_late_in_a_long_step():
@@ -84,14 +87,17 @@ def test_pipe_reaching_L1_late_in_a_long_step():
     assert abs(final[6] - final[7]) <= 1e-12 * final[6]        # all input work dissipated
 
 
-def test_segment_event_is_checked_not_hidden():
+@pytest.mark.parametrize("compiled", [False, True])
+def test_segment_event_is_checked_not_hidden(compiled):
     """Snapping onto L1 must be round-off; a late event is raised, not teleported over."""
-    model = RigidExact(Params(tau1=3e4), Options(contact_growth=True))
+    model = RigidExact(Params(tau1=3e4), Options(contact_growth=True), compiled)
     model.advance(23e3, 1e-3)
-    piece = model._piece
-    assert piece.end == 1.0
+    st = model._st
+    stepping._search(st, model._par, 1.0)          # the piece's events up to 1 s: L1 first
+    assert st[record.END] == 1.0 and st[record.LABELS] == pieces.SEGMENT
+    st[record.U1] += 0.3           # the piece's origin moved: its event is now far off L1
     with pytest.raises(RuntimeError, match="segment event"):
-        model._snap_to_segment_end(piece.U1 + 0.3, piece.U2)
+        model.advance(23e3, 1.0)
 
 
 def test_breakaway_does_not_stick_again_at_once():

@@ -1,0 +1,290 @@
+"""The exact solver's event loop: stepping, dense output and outputs, on the records.
+
+Every function here reads and writes the records of :mod:`~pipeplug.rigid.record` (``st``, the
+state, and ``par``, the constants) and nothing else, so that one source runs as Python and,
+compiled by numba (:func:`pipeplug.jit.compiled`), as machine code. Failures are returned as
+codes (:data:`OK`, :data:`TOO_MANY_EVENTS`, :data:`SEGMENT_MISSED`); the model raises them.
+"""
+from __future__ import annotations
+
+import math
+
+from ..jit import compiled_form, jitable
+from .motion import acceleration_at, ulp
+from .pieces import (
+    AT_REST,
+    BREAKAWAY_NEG,
+    BREAKAWAY_POS,
+    PIPE_REST,
+    PLUG_REST,
+    SEGMENT,
+    STICK,
+    find_event,
+    forces_of,
+    friction_work_of,
+    make_piece,
+    pipe_of,
+    travel_of,
+)
+from .record import (
+    END,
+    ERROR,
+    HORIZON,
+    KICK,
+    KIND,
+    LABELS,
+    P_COUPLED,
+    P_M1,
+    P_M2,
+    S1,
+    S2,
+    SEARCHED,
+    T0,
+    T_EVENT,
+    T_SNAP,
+    TIME,
+    U1,
+    U2,
+    V1,
+    W_IN,
+    W_INNER,
+    W_OUTER,
+    Q,
+)
+
+__all__ = ["OK", "TOO_MANY_EVENTS", "SEGMENT_MISSED", "MAX_EVENTS_PER_STEP", "step_to",
+           "start_piece", "sample_into", "outputs_at", "kinetic_energy", "at_rest"]
+
+#: return codes
+OK, TOO_MANY_EVENTS, SEGMENT_MISSED = 0, 1, 2
+MAX_EVENTS_PER_STEP = 100_000
+_EVENT_SNAP = 1e-13          # relative: an event this close after a step end is taken in it
+_SNAP_LIMIT = 1e-9           # relative: largest believable round-off of a segment crossing
+
+
+@jitable
+def step_to(st, par, q, t_end):
+    """Advance to ``t_end`` [s] under a constant struck-end force ``q`` [N].
+
+    Returns a code: :data:`OK`, or why the step failed.
+    """
+    if q == st[Q] and t_end < st[T_SNAP] and t_end <= st[SEARCHED]:
+        st[TIME] = t_end             # the common case: no event inside the step
+        return OK
+    if q != st[Q]:
+        _restart(st, par, q, t_end)
+    for _ in range(MAX_EVENTS_PER_STEP):
+        if t_end > st[SEARCHED]:
+            _search(st, par, max(t_end - st[T0], 2.0 * st[HORIZON]))
+        if t_end < st[T_SNAP]:
+            st[TIME] = t_end
+            return OK
+        code = _take_event(st, par)
+        if code != OK:
+            return code
+    return TOO_MANY_EVENTS
+
+
+@jitable
+def start_piece(st, par, t0, u1, v1, u2, v2, w_in, w_outer, w_inner, q, kick, horizon):
+    """Start a piece at ``t0`` [s] from ``(u1, v1, u2, v2)`` [m, m/s] with the works done so far
+    (input, outer and inner friction [J]) under ``q`` [N] (nan: no force yet), the plug kicked
+    by ``kick``, and look for its events up to ``horizon`` [s] after ``t0``."""
+    st[W_IN], st[W_OUTER], st[W_INNER] = w_in, w_outer, w_inner
+    st[KICK] = kick
+    make_piece(st, par, t0, u1, v1, u2, v2, 0.0 if math.isnan(q) else q, kick)
+    st[Q] = q
+    _search(st, par, horizon)
+
+
+@jitable
+def _search(st, par, horizon):
+    """Look for the piece's next event up to ``horizon`` [s] after its origin."""
+    st[HORIZON] = horizon
+    dt, labels = find_event(st, par, horizon)
+    t_event = st[T0] + dt
+    st[T_EVENT], st[LABELS] = t_event, labels
+    # A step ending within round-off of an event takes it: otherwise a grazing stop (velocity
+    # and acceleration vanishing together) would leave a velocity of 1e-14 m/s that a load at
+    # the friction limit never removes.
+    st[T_SNAP] = t_event - _EVENT_SNAP * t_event if dt < math.inf else math.inf
+    st[SEARCHED] = st[T0] + horizon if dt > horizon else math.inf
+
+
+@jitable
+def _restart(st, par, q, t_end):
+    """Start a new piece at the current time under a new force ``q`` [N], looking for its
+    events up to ``t_end`` [s]."""
+    t = st[TIME]
+    u1, v1, u2, v2, w_in, w_outer, w_inner = values_at(st, par, t)
+    s1, s2 = st[S1], st[S2]
+    if s1 != 0 and v1 * s1 < 0.0:     # round-off past a stop that was not reached
+        v1 = 0.0
+    if s2 != 0 and (v1 - v2) * s2 < 0.0:
+        v2 = v1
+    start_piece(st, par, t, u1, v1, u2, v2, w_in, w_outer, w_inner, q, 0, t_end - t)
+
+
+@jitable
+def _take_event(st, par):
+    """Move the origin to the next event, set the exact post-event values, re-decide modes."""
+    t = st[T_EVENT]
+    u1, v1, u2, v2, w_in, w_outer, w_inner = values_at(st, par, t)
+    labels = int(st[LABELS])
+    kick = 0
+    if labels & PIPE_REST:
+        v1 = 0.0
+        if st[S2] == 0:
+            v2 = 0.0
+    if labels & (PLUG_REST | STICK):
+        v2 = v1
+    if labels & SEGMENT:
+        end = st[END]
+        if not abs(u1 - end) <= _snap_allowance(st, t, u1):
+            st[ERROR] = u1
+            return SEGMENT_MISSED
+        if st[S2] == 0:               # the plug moves with the pipe: same shift
+            u2 += end - u1
+        u1 = end
+    if labels & BREAKAWAY_POS:
+        kick = 1
+    if labels & BREAKAWAY_NEG:
+        kick = -1
+    if par[P_COUPLED] == 0.0:
+        u2 = v2 = 0.0
+    searched_to = st[T0] + st[HORIZON]
+    start_piece(st, par, t, u1, v1, u2, v2, w_in, w_outer, w_inner, st[Q], kick,
+                max(searched_to - t, 0.0))
+    return OK
+
+
+@jitable
+def _snap_allowance(st, t, u1):
+    """How far [m] the pipe at ``u1`` [m] may be from the segment end it reached at ``t`` [s].
+
+    The event time is a root to round-off, so the move onto the end is round-off; a larger one
+    means the event was found at the wrong time, which is reported rather than hidden. Allowed:
+    round-off of the position, and the way covered in a few ulps of the event time (a crossing
+    sooner after the piece start than time can resolve is taken at its start).
+    """
+    end = st[END]
+    dt = 4.0 * ulp(t)
+    a = abs(acceleration_at(pipe_of(st), u1))
+    return _SNAP_LIMIT * (abs(end - st[U1]) + abs(end)) + dt * (abs(st[V1]) + a * dt)
+
+
+@jitable
+def values_at(st, par, t):
+    """``(U1, V1, U2, V2, W_input, W_outer, W_inner)`` [m, m/s, J] at absolute time(s) ``t``
+    [s] inside the current piece."""
+    d1, v1, d2, v2 = travel_of(st, par, t - st[T0])
+    outer, inner = friction_work_of(st, par, d1, d2)
+    q = st[Q]
+    w_in = st[W_IN] + (q * d1 if q == q else 0.0 * d1)       # q is nan before the first step
+    return (st[U1] + d1, v1, st[U2] + d2, v2, w_in, st[W_OUTER] + outer,
+            st[W_INNER] + inner)
+
+
+@jitable
+def at_rest(st):
+    """Both bodies stuck with no load: a step under Q = 0 changes nothing but the time."""
+    return st[KIND] == AT_REST and st[Q] == 0.0
+
+
+@jitable
+def outputs_at(st, par, t):
+    """The 13 outputs of :data:`pipeplug.interface.OUTPUTS` at absolute time(s) ``t`` [s]
+    inside the current piece (floats; at_rest and the modes as 0.0/1.0 and -1.0/0.0/1.0)."""
+    u1, v1, u2, v2, w_in, w_outer, w_inner = values_at(st, par, t)
+    f1, f2 = forces_of(st, par, u1)
+    zero = 0.0 * u1                                   # (arrays for dense output)
+    rest = (1.0 if at_rest(st) else 0.0) + zero
+    return (v1, v2, u1, u2, f1, f2, w_in, w_outer + w_inner, w_outer, w_inner, rest,
+            st[S1] + zero, st[S2] + zero)
+
+
+@jitable
+def _kinematics_at(st, par, t):
+    """``(V1, V2, U1, U2)`` [m/s, m] at absolute time(s) ``t`` [s] inside the current piece."""
+    d1, v1, d2, v2 = travel_of(st, par, t - st[T0])
+    return v1, v2, st[U1] + d1, st[U2] + d2
+
+
+@jitable
+def kinetic_energy(st, par):
+    """Kinetic energy [J] at the current time."""
+    v1, v2, _, _ = _kinematics_at(st, par, st[TIME])
+    return 0.5 * (par[P_M1] * v1 * v1 + par[P_M2] * v2 * v2)
+
+
+@jitable
+def sample_into(st, par, q, times, rows, table):
+    """Dense output: advance to ``times[-1]`` [s] under a constant ``q`` [N], writing output
+    ``rows[i]`` (indices into :data:`pipeplug.interface.OUTPUTS`) at ``times[j]`` into
+    ``table[i, j]``.
+
+    Each piece is evaluated for all the sample times it covers at once, so a long record costs
+    little more than its events. Same values as stepping to each time and
+    taking the outputs there. Returns a code like :func:`step_to`.
+    """
+    n = times.shape[0]
+    t_last = times[n - 1]
+    if q != st[Q]:
+        _restart(st, par, q, t_last)
+    kinematics = True                 # kinematics alone need no forces or works
+    for row in rows:
+        kinematics = kinematics and row < 4
+    done = 0
+    for _ in range(MAX_EVENTS_PER_STEP * n):
+        if t_last > st[SEARCHED]:
+            _search(st, par, max(t_last - st[T0], 2.0 * st[HORIZON]))
+        upto = _first_not_before(times, done, st[T_SNAP])
+        if upto > done:
+            _fill(st, par, times, done, upto, rows, table, kinematics)
+            done = upto
+        if done == n:
+            st[TIME] = t_last
+            return OK
+        code = _take_event(st, par)
+        if code != OK:
+            return code
+    return TOO_MANY_EVENTS
+
+
+@jitable
+def _first_not_before(times, lo, t):
+    """The first index >= ``lo`` of increasing ``times`` [s] whose time is not before ``t``
+    [s] (``len(times)`` if none is): a bisection."""
+    hi = times.shape[0]
+    while lo < hi:
+        mid = (lo + hi) // 2
+        if times[mid] < t:
+            lo = mid + 1
+        else:
+            hi = mid
+    return lo
+
+
+@jitable
+def _fill_loop(st, par, times, lo, hi, rows, table, kinematics):
+    """:func:`_fill` as compiled code runs it: a loop over the samples (no temporaries)."""
+    for j in range(lo, hi):
+        if kinematics:
+            values4 = _kinematics_at(st, par, times[j])
+            for i in range(rows.shape[0]):
+                table[i, j] = values4[rows[i]]
+        else:
+            values = outputs_at(st, par, times[j])
+            for i in range(rows.shape[0]):
+                table[i, j] = values[rows[i]]
+
+
+@compiled_form(_fill_loop)
+def _fill(st, par, times, lo, hi, rows, table, kinematics):
+    """Write the outputs ``rows`` at ``times[lo:hi]`` [s] (inside the current piece) into
+    ``table[:, lo:hi]`` (only the first four outputs when ``kinematics``): one array
+    operation per output and piece."""
+    t = times[lo:hi]
+    values = _kinematics_at(st, par, t) if kinematics else outputs_at(st, par, t)
+    for i in range(rows.shape[0]):
+        table[i, lo:hi] = values[rows[i]]
