@@ -31,7 +31,7 @@ __all__ = ["jitable", "compiled_form", "compiled", "enabled", "NO_JIT_ENV", "CAC
 NO_JIT_ENV = "PIPEPLUG_NO_JIT"
 CACHE_DIR_ENV = "PIPEPLUG_CACHE_DIR"
 _PACKAGE = __name__.rpartition(".")[0] or "pipeplug"
-_HELPERS: list = []                 # functions marked jitable, registered at the first compile
+_HELPERS: list = []                 # (function, inline) marked jitable, registered at first compile
 _FORMS: list = []                   # (function, its compiled form), registered likewise
 _COMPILED: dict = {}                # plain kernel -> its compiled dispatcher
 _numba = None                       # the numba module once imported; False when unavailable
@@ -52,15 +52,26 @@ def _digest_sources() -> str:
 _SOURCES_KEY = _digest_sources()    # now, while the files are surely there
 
 
-def jitable(func):
-    """Mark ``func`` as callable from compiled kernels; it is returned unchanged."""
-    if func in _HELPERS:
+def jitable(func=None, *, inline: bool = False):
+    """Mark ``func`` as callable from compiled kernels; it is returned unchanged.
+
+    ``inline=True`` (as ``@jitable(inline=True)``): compiled callers get the function's body
+    in place of a call, for small functions in hot loops (the compiler does not always inline
+    them itself).
+    """
+    if func is None:
+        return lambda f: jitable(f, inline=inline)
+    if any(f is func for f, _ in _HELPERS):
         return func
-    _HELPERS.append(func)
+    _HELPERS.append((func, inline))
     if _numba:                      # numba already set up: register now
-        from numba.extending import register_jitable
-        register_jitable(func)
+        _register(func, inline)
     return func
+
+
+def _register(func, inline: bool) -> None:
+    from numba.extending import register_jitable
+    register_jitable(inline="always" if inline else "never")(func)
 
 
 def compiled_form(form):
@@ -132,12 +143,12 @@ def _load_numba():
         if os.environ.get(NO_JIT_ENV, "").strip() in ("", "0"):
             try:
                 import numba
-                from numba.extending import register_jitable
+                import numba.extending
             except Exception:  # an absent or broken numba must never stop the pure path
                 return None
             _install_cache_locator()
-            for helper in _HELPERS:
-                register_jitable(helper)
+            for helper, inline in _HELPERS:
+                _register(helper, inline)
             for func, form in _FORMS:
                 _register_form(func, form)
             _numba = numba

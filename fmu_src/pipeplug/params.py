@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, fields, make_dataclass, replace
+from functools import cache
 
 import numpy as np
 
@@ -193,9 +194,7 @@ class _Derived(_Formulas):
         ParameterError
             Naming the first offending parameter, its value and the allowed range.
         """
-        for p in PARAMETERS:
-            if p.active_with is not None and p.active_with not in active:
-                continue
+        for p in _checked(frozenset(active)):
             value = getattr(self, p.name)
             if not _within(p, value, self):
                 raise ParameterError(p.name, value, p.allowed())
@@ -234,9 +233,7 @@ class ParamArrays(_Formulas):
         ParameterError
             Naming the first offending parameter and its first offending value.
         """
-        for p in PARAMETERS:
-            if p.active_with is not None and p.active_with not in active:
-                continue
+        for p in _checked(frozenset(active)):
             values = getattr(self, p.name)
             ok = _in_range(p, values, self)
             if not np.all(ok):
@@ -264,12 +261,20 @@ def _checked_names(values) -> dict:
 
 def _as_number(value):
     """A plain ``float`` for real numbers (numpy scalars included); anything else unchanged."""
+    if type(value) is float:          # the common case, first
+        return value
     if isinstance(value, (bool, str)):
         return value
     try:
         return float(value)
     except (TypeError, ValueError):
         return value
+
+
+@cache
+def _checked(active: frozenset[str]) -> tuple[Parameter, ...]:
+    """The parameters checked when the groups ``active`` are: all but those of other groups."""
+    return tuple(p for p in PARAMETERS if p.active_with is None or p.active_with in active)
 
 
 def _within(p: Parameter, value: float, params: Params) -> bool:

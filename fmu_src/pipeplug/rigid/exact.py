@@ -56,6 +56,28 @@ _STATE_KEYS = ("time", "t0", "U1", "V1", "U2", "V2", "W_in", "W_outer", "W_inner
 _STATE_SLOTS = (TIME, T0, U1, V1, U2, V2, W_IN, W_OUTER, W_INNER, Q, KICK, HORIZON)
 
 
+_FRESH_LIST = state_record()
+_FRESH = as_array(_FRESH_LIST)
+
+
+def _kernels(compiled: bool) -> tuple:
+    """The solver's entry points: compiled when asked and numba is available, else plain."""
+    if compiled not in _PATHS:
+        fns = tuple(jit.compiled(f) for f in KERNELS) if compiled else KERNELS
+        _PATHS[compiled] = KERNELS if fns == KERNELS else fns
+    return _PATHS[compiled]
+
+
+_PATHS: dict = {}
+
+
+def _floats(values) -> np.ndarray:
+    """``values`` as a writable contiguous float64 array (the type the compiled code takes),
+    without a copy when they are one already."""
+    array = np.ascontiguousarray(values, dtype=np.float64)
+    return array if array.flags.writeable else array.copy()
+
+
 class RigidExact(ModelBase):
     """Rigid pipe (and plug), exact stepping. See the module docstring.
 
@@ -70,13 +92,12 @@ class RigidExact(ModelBase):
     """
 
     def __init__(self, params, options, compiled: bool = True):
-        par, st = parameter_record(params, options.contact_growth), state_record()
+        par = parameter_record(params, options.contact_growth)
         self.M1, self.M2 = par[P_M1], par[P_M2]     # [kg]; M2 = 0 without a plug
-        fns = [jit.compiled(f) for f in KERNELS] if compiled else KERNELS
-        self.compiled = fns[0] is not KERNELS[0]
-        if self.compiled:
-            par, st = as_array(par), as_array(st)
-        self._par, self._st = par, st
+        fns = _kernels(compiled)
+        self.compiled = fns is not KERNELS
+        self._par = as_array(par) if self.compiled else par
+        self._st = _FRESH.copy() if self.compiled else list(_FRESH_LIST)
         (self._step, self._start, self._sample, self._outputs, self._kinetic) = fns
 
     @property
@@ -98,21 +119,24 @@ class RigidExact(ModelBase):
         if code == stepping.TOO_MANY_EVENTS:
             raise RuntimeError(f"more than {stepping.MAX_EVENTS_PER_STEP} friction events in "
                                f"one step")
+        if code == stepping.LOAD_NOT_FINITE:
+            raise ValueError("a step needs a finite load q")
         if code == stepping.SEGMENT_MISSED:
             raise RuntimeError(f"segment event at U1 = {float(self._st[ERROR])!r} m, "
                                f"{float(self._st[END])!r} m expected")
 
-    def sample(self, q: float, times, names=OUTPUT_NAMES) -> dict:
-        """Dense output: advance to ``times[-1]`` under a constant ``q`` [N], recording outputs.
+    def sample(self, q, times, names=OUTPUT_NAMES) -> dict:
+        """Dense output: advance through ``times``, recording outputs there.
 
         Each piece is evaluated once for all the sample times it covers, so a long record
-        costs about as much as its events. Same values as :meth:`advance` followed by
-        :meth:`outputs` at each time.
+        costs about as much as its events. Same values as :meth:`advance_to` each time
+        followed by :meth:`outputs`.
 
         Parameters
         ----------
-        q : float
-            Struck-end force [N].
+        q : float or array of float
+            Struck-end force [N]: constant, or ``q[j]`` over the interval ending at
+            ``times[j]``.
         times : array of float
             Increasing absolute times [s], all later than the current time.
         names : sequence of str, optional
@@ -123,11 +147,14 @@ class RigidExact(ModelBase):
         dict of arrays
             One array per requested output name.
         """
-        times = np.ascontiguousarray(times, dtype=float)
-        rows = np.array([OUTPUT_NAMES.index(name) for name in names], dtype=np.int64)
-        table = np.empty((len(rows), len(times)))
-        self._check(self._sample(self._st, self._par, float(q), times, rows, table))
-        return dict(zip(names, table))
+        times, loads = _floats(times), _floats(q)
+        if loads.shape != times.shape:
+            loads = np.broadcast_to(loads, times.shape).copy()
+        rows = [OUTPUT_NAMES.index(name) for name in names]
+        # Kinematics alone (the first four outputs) need no forces or works.
+        table = np.empty((4 if max(rows) < 4 else len(OUTPUT_NAMES), len(times)))
+        self._check(self._sample(self._st, self._par, loads, times, table))
+        return {name: table[row] for name, row in zip(names, rows)}
 
     def outputs(self) -> Outputs:
         """The contract's outputs at the current time."""

@@ -98,7 +98,7 @@ def _basis(k, w, t):
     return _sinh(w * t) / w, -2.0 * half * half / k, _cosh(w * t)
 
 
-@jitable
+@jitable(inline=True)
 def travel(m, t):
     """Displacement since the start [m] and velocity [m/s] at time(s) ``t`` [s].
 
@@ -108,6 +108,13 @@ def travel(m, t):
     _, V0, a0, k, w = m
     if k == 0.0:                 # uniform acceleration, the common case: fewer operations
         return t * (V0 + 0.5 * a0 * t), V0 + a0 * t
+    return _travel_curved(V0, a0, k, w, t)
+
+
+@jitable
+def _travel_curved(V0, a0, k, w, t):
+    """:func:`travel` of a harmonic or hyperbolic motion (apart, so that compiled code inlines
+    the short uniform case into its loops)."""
     S, C, dS = _basis(k, w, t)
     return V0 * S + a0 * C, V0 * dS + a0 * S
 

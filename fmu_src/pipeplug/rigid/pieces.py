@@ -14,8 +14,10 @@ Kinds of piece (s1 = pipe/soil mode, s2 = pipe/plug mode, 0 = stuck):
 * :data:`BOTH_SLIDE`  s1 != 0, s2 != 0: ends when the pipe stops, changes contact segment, or
   the relative velocity vanishes.
 
-A piece lives in the state record (:mod:`~pipeplug.rigid.record`); :func:`make_piece` decides its
-modes and writes it there, the other functions read it. Events are bits of a label set:
+A piece is two closed-form motions, the pipe's and the plug's (a body at rest has a motion of
+zeros, a carried plug the pipe's), its friction forces (static reactions of stuck contacts) and
+its outer contact segment. It lives in the state record (:mod:`~pipeplug.rigid.record`):
+:func:`make_piece` decides the modes and writes it there, the other functions read it. Events are bits of a label set:
 :data:`PIPE_REST`, :data:`PLUG_REST`, :data:`STICK`, :data:`SEGMENT`, :data:`BREAKAWAY_POS`,
 :data:`BREAKAWAY_NEG` (the plug starts sliding with s2 = +1/-1). Evaluations take a time or an
 array of times (dense output).
@@ -44,6 +46,8 @@ from .record import (
     FORCE0,
     FS1,
     FS2,
+    K1,
+    K2,
     KAPPA,
     KIND,
     P_COUPLED,
@@ -58,12 +62,13 @@ from .record import (
     U2,
     V1,
     V2,
-    K,
-    W,
+    W1,
+    W2,
 )
 
 __all__ = ["AT_REST", "PLUG_SLIDES", "TOGETHER", "BOTH_SLIDE", "PIPE_REST", "PLUG_REST", "STICK",
-           "SEGMENT", "BREAKAWAY_POS", "BREAKAWAY_NEG", "make_piece", "travel_of", "forces_of",
+           "SEGMENT", "BREAKAWAY_POS", "BREAKAWAY_NEG", "make_piece", "travel_of", "kinematics",
+           "forces_of",
            "friction_work_of", "find_event", "pipe_of", "plug_of", "law_of"]
 
 _INF = math.inf
@@ -80,16 +85,16 @@ def law_of(par):
     return par[P_LAW], par[P_LAW + 1], par[P_LAW + 2], par[P_LAW + 3]
 
 
-@jitable
+@jitable(inline=True)
 def pipe_of(st):
     """The pipe's motion in the current piece (:func:`~pipeplug.rigid.motion.motion`)."""
-    return st[U1], st[V1], st[A1], st[K], st[W]
+    return st[U1], st[V1], st[A1], st[K1], st[W1]
 
 
-@jitable
+@jitable(inline=True)
 def plug_of(st):
-    """The plug's motion when it slides in the pipe (uniform deceleration)."""
-    return st[U2], st[V2], st[A2], 0.0, 0.0
+    """The plug's motion in the current piece (the pipe's when it carries the plug)."""
+    return st[U2], st[V2], st[A2], st[K2], st[W2]
 
 
 @jitable
@@ -133,12 +138,15 @@ def make_piece(st, par, t0, u1, v1, u2, v2, q, kick):
         s2 = kick if kick != 0 else p2
     st[T0], st[U1], st[V1], st[U2], st[V2] = t0, u1, v1, u2, v2
     st[S1], st[S2] = float(s1), float(s2)
+    st[A1] = st[K1] = st[W1] = st[A2] = st[K2] = st[W2] = 0.0     # at rest until set
+    if s2 != 0:                       # the plug slides in the pipe: uniform deceleration
+        st[A2] = s2 * f2_limit / m2
     if s1 == 0:
         st[FS1] = f1_sliding + f1s
         if s2 == 0:
             st[KIND], st[FS2] = AT_REST, f2_sliding + f2s
         else:
-            st[KIND], st[A2] = PLUG_SLIDES, s2 * f2_limit / m2
+            st[KIND] = PLUG_SLIDES
         return
     force0, kappa, end = segment(law, u1, float(s1))
     st[FORCE0], st[KAPPA], st[END] = force0, kappa, end
@@ -147,31 +155,34 @@ def make_piece(st, par, t0, u1, v1, u2, v2, q, kick):
         mass = m1 + m2
         a0 = (q + force0 - kappa * u1) / mass
     else:
-        st[KIND], st[A2] = BOTH_SLIDE, s2 * f2_limit / m2
+        st[KIND] = BOTH_SLIDE
         mass = m1
         a0 = (q + force0 - kappa * u1 - s2 * f2_limit) / m1
-    _, _, st[A1], st[K], st[W] = motion(u1, v1, a0, kappa / mass)
+    _, _, st[A1], st[K1], st[W1] = motion(u1, v1, a0, kappa / mass)
+    if s2 == 0 and coupled:
+        st[A2], st[K2], st[W2] = st[A1], st[K1], st[W1]
 
 
-@jitable
-def travel_of(st, par, dt):
+@jitable(inline=True)
+def travel_of(st, dt):
     """Displacements since the origin [m] and velocities [m/s] at ``dt`` [s] after it:
-    ``(d1, V1, d2, V2)`` (floats, or arrays for an array ``dt``)."""
-    kind = st[KIND]
-    if kind == AT_REST:
-        zero = 0.0 * dt
-        return zero, zero, zero, zero
-    if kind == PLUG_SLIDES:
-        d2, v2 = travel(plug_of(st), dt)
-        zero = 0.0 * dt
-        return zero, zero, d2, v2
+    ``(d1, V1, d2, V2)`` (floats, or arrays for an array ``dt``).
+
+    Every kind of piece is two motions (a body at rest has a motion of zeros, a carried plug
+    the pipe's), so this has no branch: compiled dense output runs it in a tight loop.
+    """
     d1, v1 = travel(pipe_of(st), dt)
-    if kind == TOGETHER:
-        if par[P_COUPLED] == 0.0:
-            return d1, v1, 0.0 * d1, 0.0 * d1
-        return d1, v1, d1, v1
     d2, v2 = travel(plug_of(st), dt)
     return d1, v1, d2, v2
+
+
+@jitable(inline=True)
+def kinematics(pipe, plug, dt):
+    """``(V1, V2, U1, U2)`` [m/s, m] of the motions ``pipe`` and ``plug`` at ``dt`` [s] after
+    their start (floats, or arrays for an array ``dt``)."""
+    d1, v1 = travel(pipe, dt)
+    d2, v2 = travel(plug, dt)
+    return v1, v2, pipe[0] + d1, plug[0] + d2
 
 
 @jitable

@@ -27,14 +27,15 @@ N_PAR = P_LAW + 4
 
 # State. TIME: the model's time [s]. The piece: its start T0 [s] and force Q [N] (nan before
 # the first step), its origin U1, V1, U2, V2 [m, m/s], contact modes S1, S2 (-1, 0, 1) and KIND
-# (pieces.AT_REST ...); the pipe's motion A1 [m/s^2], K [1/s^2], W = sqrt(|K|) [1/s]; the
-# plug's acceleration A2 [m/s^2]; the outer segment FORCE0 [N], KAPPA [N/m], END [m]; static
-# forces FS1, FS2 [N]. Works before the piece W_IN, W_OUTER, W_INNER [J]; KICK: the plug's
-# breakaway direction at the piece start. The event search: HORIZON [s] after T0 searched,
-# the event T_EVENT [s] and its LABELS (bits), T_SNAP [s] (a step ending past it takes the
-# event), SEARCHED [s] (events known up to it). ERROR: a value for the message of a failure.
-(TIME, T0, Q, U1, V1, U2, V2, S1, S2, KIND, A1, K, W, A2, FORCE0, KAPPA, END, FS1, FS2,
- W_IN, W_OUTER, W_INNER, KICK, HORIZON, T_EVENT, T_SNAP, SEARCHED, LABELS, ERROR) = range(29)
+# (pieces.AT_REST ...); the motions of pipe and plug (a body at rest, or absent, has a motion
+# of zeros): acceleration A1, A2 [m/s^2], stiffness per mass K1, K2 [1/s^2] and W1, W2 =
+# sqrt(|K|) [1/s]; the outer segment FORCE0 [N], KAPPA [N/m], END [m]; static forces FS1, FS2
+# [N]. Works before the piece W_IN, W_OUTER, W_INNER [J]; KICK: the plug's breakaway direction
+# at the piece start. The event search: HORIZON [s] after T0 searched, the event T_EVENT [s]
+# and its LABELS (bits), T_SNAP [s] (a step ending past it takes the event), SEARCHED [s]
+# (events known up to it). ERROR: a value for the message of a failure.
+(TIME, T0, Q, U1, V1, U2, V2, S1, S2, KIND, A1, K1, W1, A2, K2, W2, FORCE0, KAPPA, END, FS1,
+ FS2, W_IN, W_OUTER, W_INNER, KICK, HORIZON, T_EVENT, T_SNAP, SEARCHED, LABELS, ERROR) = range(31)
 N_STATE = ERROR + 1
 
 

@@ -3,7 +3,8 @@
 Every function here reads and writes the records of :mod:`~pipeplug.rigid.record` (``st``, the
 state, and ``par``, the constants) and nothing else, so that one source runs as Python and,
 compiled by numba (:func:`pipeplug.jit.compiled`), as machine code. Failures are returned as
-codes (:data:`OK`, :data:`TOO_MANY_EVENTS`, :data:`SEGMENT_MISSED`); the model raises them.
+codes (:data:`OK`, :data:`TOO_MANY_EVENTS`, :data:`SEGMENT_MISSED`, :data:`LOAD_NOT_FINITE`);
+the model raises them.
 """
 from __future__ import annotations
 
@@ -22,8 +23,10 @@ from .pieces import (
     find_event,
     forces_of,
     friction_work_of,
+    kinematics,
     make_piece,
     pipe_of,
+    plug_of,
     travel_of,
 )
 from .record import (
@@ -52,11 +55,12 @@ from .record import (
     Q,
 )
 
-__all__ = ["OK", "TOO_MANY_EVENTS", "SEGMENT_MISSED", "MAX_EVENTS_PER_STEP", "step_to",
+__all__ = ["OK", "TOO_MANY_EVENTS", "SEGMENT_MISSED", "LOAD_NOT_FINITE", "MAX_EVENTS_PER_STEP",
+           "step_to",
            "start_piece", "sample_into", "outputs_at", "kinetic_energy", "at_rest"]
 
 #: return codes
-OK, TOO_MANY_EVENTS, SEGMENT_MISSED = 0, 1, 2
+OK, TOO_MANY_EVENTS, SEGMENT_MISSED, LOAD_NOT_FINITE = 0, 1, 2, 3
 MAX_EVENTS_PER_STEP = 100_000
 _EVENT_SNAP = 1e-13          # relative: an event this close after a step end is taken in it
 _SNAP_LIMIT = 1e-9           # relative: largest believable round-off of a segment crossing
@@ -177,7 +181,7 @@ def _snap_allowance(st, t, u1):
 def values_at(st, par, t):
     """``(U1, V1, U2, V2, W_input, W_outer, W_inner)`` [m, m/s, J] at absolute time(s) ``t``
     [s] inside the current piece."""
-    d1, v1, d2, v2 = travel_of(st, par, t - st[T0])
+    d1, v1, d2, v2 = travel_of(st, t - st[T0])
     outer, inner = friction_work_of(st, par, d1, d2)
     q = st[Q]
     w_in = st[W_IN] + (q * d1 if q == q else 0.0 * d1)       # q is nan before the first step
@@ -203,11 +207,10 @@ def outputs_at(st, par, t):
             st[S1] + zero, st[S2] + zero)
 
 
-@jitable
+@jitable(inline=True)
 def _kinematics_at(st, par, t):
     """``(V1, V2, U1, U2)`` [m/s, m] at absolute time(s) ``t`` [s] inside the current piece."""
-    d1, v1, d2, v2 = travel_of(st, par, t - st[T0])
-    return v1, v2, st[U1] + d1, st[U2] + d2
+    return kinematics(pipe_of(st), plug_of(st), t - st[T0])
 
 
 @jitable
@@ -218,31 +221,47 @@ def kinetic_energy(st, par):
 
 
 @jitable
-def sample_into(st, par, q, times, rows, table):
-    """Dense output: advance to ``times[-1]`` [s] under a constant ``q`` [N], writing output
-    ``rows[i]`` (indices into :data:`pipeplug.interface.OUTPUTS`) at ``times[j]`` into
-    ``table[i, j]``.
+def sample_into(st, par, loads, times, table):
+    """Dense output: advance through ``times`` [s] under the struck-end force ``loads[j]`` [N]
+    over the interval ending at ``times[j]``, writing the outputs at ``times[j]`` into
+    ``table[:, j]``: all of :data:`pipeplug.interface.OUTPUTS` (13 rows) or the kinematics
+    alone (their first four).
 
     Each piece is evaluated for all the sample times it covers at once, so a long record costs
-    little more than its events. Same values as stepping to each time and
-    taking the outputs there. Returns a code like :func:`step_to`.
+    little more than its events. Same values as stepping to each time and taking the outputs
+    there. Returns a code like :func:`step_to`.
     """
     n = times.shape[0]
-    t_last = times[n - 1]
+    lo = 0
+    while lo < n:                     # one run of samples per constant load
+        q = float(loads[lo])
+        if not q - q == 0.0:
+            return LOAD_NOT_FINITE
+        hi = lo + 1
+        while hi < n and loads[hi] == q:
+            hi += 1
+        code = _sample_run(st, par, q, times, lo, hi, table)
+        if code != OK:
+            return code
+        lo = hi
+    return OK
+
+
+@jitable
+def _sample_run(st, par, q, times, lo, hi, table):
+    """:func:`sample_into` for the samples ``lo..hi-1``, all under the force ``q`` [N]."""
+    t_last = float(times[hi - 1])
     if q != st[Q]:
         _restart(st, par, q, t_last)
-    kinematics = True                 # kinematics alone need no forces or works
-    for row in rows:
-        kinematics = kinematics and row < 4
-    done = 0
-    for _ in range(MAX_EVENTS_PER_STEP * n):
+    done = lo
+    for _ in range(MAX_EVENTS_PER_STEP * (hi - lo)):
         if t_last > st[SEARCHED]:
             _search(st, par, max(t_last - st[T0], 2.0 * st[HORIZON]))
-        upto = _first_not_before(times, done, st[T_SNAP])
+        upto = _first_not_before(times, done, hi, st[T_SNAP])
         if upto > done:
-            _fill(st, par, times, done, upto, rows, table, kinematics)
+            _fill(st, par, times, done, upto, table)
             done = upto
-        if done == n:
+        if done == hi:
             st[TIME] = t_last
             return OK
         code = _take_event(st, par)
@@ -252,10 +271,9 @@ def sample_into(st, par, q, times, rows, table):
 
 
 @jitable
-def _first_not_before(times, lo, t):
-    """The first index >= ``lo`` of increasing ``times`` [s] whose time is not before ``t``
-    [s] (``len(times)`` if none is): a bisection."""
-    hi = times.shape[0]
+def _first_not_before(times, lo, hi, t):
+    """The first index in ``lo..hi-1`` of increasing ``times`` [s] whose time is not before
+    ``t`` [s] (``hi`` if none is): a bisection."""
     while lo < hi:
         mid = (lo + hi) // 2
         if times[mid] < t:
@@ -266,25 +284,26 @@ def _first_not_before(times, lo, t):
 
 
 @jitable
-def _fill_loop(st, par, times, lo, hi, rows, table, kinematics):
+def _fill_loop(st, par, times, lo, hi, table):
     """:func:`_fill` as compiled code runs it: a loop over the samples (no temporaries)."""
+    if table.shape[0] == 4:           # the piece's motions read once, out of the loop
+        pipe, plug, t0 = pipe_of(st), plug_of(st), st[T0]
+        for j in range(lo, hi):
+            table[0, j], table[1, j], table[2, j], table[3, j] = kinematics(pipe, plug,
+                                                                            times[j] - t0)
+        return
     for j in range(lo, hi):
-        if kinematics:
-            values4 = _kinematics_at(st, par, times[j])
-            for i in range(rows.shape[0]):
-                table[i, j] = values4[rows[i]]
-        else:
-            values = outputs_at(st, par, times[j])
-            for i in range(rows.shape[0]):
-                table[i, j] = values[rows[i]]
+        (table[0, j], table[1, j], table[2, j], table[3, j], table[4, j], table[5, j],
+         table[6, j], table[7, j], table[8, j], table[9, j], table[10, j], table[11, j],
+         table[12, j]) = outputs_at(st, par, times[j])
 
 
 @compiled_form(_fill_loop)
-def _fill(st, par, times, lo, hi, rows, table, kinematics):
-    """Write the outputs ``rows`` at ``times[lo:hi]`` [s] (inside the current piece) into
-    ``table[:, lo:hi]`` (only the first four outputs when ``kinematics``): one array
+def _fill(st, par, times, lo, hi, table):
+    """Write the outputs at ``times[lo:hi]`` [s] (inside the current piece) into
+    ``table[:, lo:hi]`` (the kinematics alone when ``table`` has four rows): one array
     operation per output and piece."""
     t = times[lo:hi]
-    values = _kinematics_at(st, par, t) if kinematics else outputs_at(st, par, t)
-    for i in range(rows.shape[0]):
-        table[i, lo:hi] = values[rows[i]]
+    values = _kinematics_at(st, par, t) if table.shape[0] == 4 else outputs_at(st, par, t)
+    for i, value in enumerate(values):
+        table[i, lo:hi] = value

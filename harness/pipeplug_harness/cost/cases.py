@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from functools import cached_property
 
 import numpy as np
 
@@ -53,10 +54,15 @@ class BenchCase:
     t_end: float
     rate: int = RATE
 
-    @property
+    @cached_property
     def times(self) -> np.ndarray:
         """Sample times k / rate, k = 1 .. rate t_end, s (t0 is one of them)."""
         return np.arange(1, round(self.t_end * self.rate) + 1) / self.rate
+
+    @cached_property
+    def loads(self) -> np.ndarray:
+        """Struck-end force over the sample interval ending at each sample time, N."""
+        return np.where(self.times <= self.case.t0, self.case.Q0, 0.0)
 
     @property
     def params(self) -> dict:

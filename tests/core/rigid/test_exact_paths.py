@@ -7,6 +7,10 @@ the paths.
 """
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
+
 import numpy as np
 import pytest
 
@@ -109,3 +113,26 @@ def test_a_state_moves_between_the_paths(seed):
         python.advance_to(q, b)
         compiled.advance_to(q, b)
         assert python.outputs() == compiled.outputs()
+
+
+_PLAIN_RUNS = """
+import sys
+import pipeplug, pipeplug.batch
+for options in ({}, {"contact_growth": True}, {"solver": "fd"}):
+    model = pipeplug.build_model({"tau1": 2e4}, options, compiled=False)
+    model.advance(23e3, 0.05)
+    model.sample(0.0, [0.1, 0.2])
+pipeplug.batch.blows({"tau1": [2e4, 3e4]}, compiled=False)
+print("numba" in sys.modules)
+pipeplug.build_model({}, {})
+print("numba" in sys.modules)
+"""
+
+
+def test_plain_python_runs_never_import_numba():
+    """Rigid models and batches on the plain path leave numba unimported (a fresh process); the
+    compiled path imports it when the model is built."""
+    env = {k: v for k, v in os.environ.items() if k != jit.NO_JIT_ENV}
+    proc = subprocess.run([sys.executable, "-c", _PLAIN_RUNS], capture_output=True, text=True,
+                          timeout=120, check=True, env=env)
+    assert proc.stdout.split() == ["False", "True"]
