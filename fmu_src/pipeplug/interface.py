@@ -122,10 +122,13 @@ class ModelBase:
         :attr:`time` to round-off of the host's clock): the step starts there, so a load
         switched by the host takes effect at the host's instant.
         """
-        if t_start is not None:
-            self.time = float(t_start)
+        if t_start is None:
+            t_start = self.time
+        else:
+            t_start = float(t_start)
+            self.time = t_start
         t_end = float(t_end)
-        h = t_end - self.time
+        h = t_end - t_start
         self._check_step(q, h)
         self._step_to(float(q), h, t_end)
 

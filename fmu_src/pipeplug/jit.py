@@ -2,13 +2,14 @@
 
 Kernels and their helpers are written once, as plain Python over floats and arrays. Helpers are
 marked with :func:`jitable`; a kernel is compiled by :func:`compiled` when a model first asks
-for it. A helper that Python runs best with array operations and compiled code best as a loop
-is marked with :func:`compiled_form`, naming its loop form (both forms compute the same values
-with the same helpers). Only then is numba imported (so a rigid model, or a host without numba, never imports
-it), the marked helpers are registered with numba (they stay plain functions for Python
-callers), and the kernel is compiled in ``nopython`` mode with IEEE arithmetic (no fast-math:
-the compiled and the Python path give the same numbers). Without numba, or with the
-environment variable ``PIPEPLUG_NO_JIT=1``, :func:`compiled` returns the plain function.
+for it. Only then is numba imported (so a model on the plain path, or a host without numba,
+never imports it), the marked helpers are registered with numba (they stay plain functions for
+Python callers), and the kernel is compiled in ``nopython`` mode with IEEE arithmetic (no
+fast-math: the compiled and the Python path give the same numbers). Without numba, or with the
+environment variable ``PIPEPLUG_NO_JIT=1``, :func:`compiled` returns the plain function. A
+helper that Python runs best with array operations and compiled code best as a loop is marked
+with :func:`compiled_form`, naming its loop form (both compute the same values with the same
+helpers).
 
 Compiled code is cached on disk so that a new process (for example each run of the FMU, whose
 files an importer unpacks into a fresh temporary folder and may delete afterwards) reuses it.

@@ -112,10 +112,12 @@ class RigidExact(ModelBase):
     def _step_to(self, q: float, h: float, t_end: float) -> None:
         """Advance to ``t_end`` [s] under a constant struck-end force ``q`` [N] (events are
         times, so only ``t_end`` matters)."""
-        self._check(self._step(self._st, self._par, q, t_end))
+        code = self._step(self._st, self._par, q, t_end)
+        if code:
+            self._raise(code)
 
-    def _check(self, code: int) -> None:
-        """Raise the failure a solver function reported (code 0: none)."""
+    def _raise(self, code: int) -> None:
+        """Raise the failure a solver function reported."""
         if code == stepping.TOO_MANY_EVENTS:
             raise RuntimeError(f"more than {stepping.MAX_EVENTS_PER_STEP} friction events in "
                                f"one step")
@@ -153,12 +155,14 @@ class RigidExact(ModelBase):
         rows = [OUTPUT_NAMES.index(name) for name in names]
         # Kinematics alone (the first four outputs) need no forces or works.
         table = np.empty((4 if max(rows) < 4 else len(OUTPUT_NAMES), len(times)))
-        self._check(self._sample(self._st, self._par, loads, times, table))
+        code = self._sample(self._st, self._par, loads, times, table)
+        if code:
+            self._raise(code)
         return {name: table[row] for name, row in zip(names, rows)}
 
     def outputs(self) -> Outputs:
         """The contract's outputs at the current time."""
-        out = self._outputs(self._st, self._par, self.time)
+        out = self._outputs(self._st, self._par, self._st[TIME])
         return Outputs(*out[:10], out[10] != 0.0, int(out[11]), int(out[12]))
 
     def at_rest(self) -> bool:

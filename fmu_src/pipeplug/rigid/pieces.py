@@ -67,7 +67,7 @@ from .record import (
 )
 
 __all__ = ["AT_REST", "PLUG_SLIDES", "TOGETHER", "BOTH_SLIDE", "PIPE_REST", "PLUG_REST", "STICK",
-           "SEGMENT", "BREAKAWAY_POS", "BREAKAWAY_NEG", "make_piece", "travel_of", "kinematics",
+           "SEGMENT", "BREAKAWAY_POS", "BREAKAWAY_NEG", "make_piece", "kinematics",
            "forces_of",
            "friction_work_of", "find_event", "pipe_of", "plug_of", "law_of"]
 
@@ -164,22 +164,13 @@ def make_piece(st, par, t0, u1, v1, u2, v2, q, kick):
 
 
 @jitable(inline=True)
-def travel_of(st, dt):
-    """Displacements since the origin [m] and velocities [m/s] at ``dt`` [s] after it:
-    ``(d1, V1, d2, V2)`` (floats, or arrays for an array ``dt``).
+def kinematics(pipe, plug, dt):
+    """``(V1, V2, U1, U2)`` [m/s, m] of the motions ``pipe`` and ``plug`` at ``dt`` [s] after
+    their start (floats, or arrays for an array ``dt``).
 
     Every kind of piece is two motions (a body at rest has a motion of zeros, a carried plug
     the pipe's), so this has no branch: compiled dense output runs it in a tight loop.
     """
-    d1, v1 = travel(pipe_of(st), dt)
-    d2, v2 = travel(plug_of(st), dt)
-    return d1, v1, d2, v2
-
-
-@jitable(inline=True)
-def kinematics(pipe, plug, dt):
-    """``(V1, V2, U1, U2)`` [m/s, m] of the motions ``pipe`` and ``plug`` at ``dt`` [s] after
-    their start (floats, or arrays for an array ``dt``)."""
     d1, v1 = travel(pipe, dt)
     d2, v2 = travel(plug, dt)
     return v1, v2, pipe[0] + d1, plug[0] + d2

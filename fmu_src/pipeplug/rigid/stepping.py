@@ -11,7 +11,7 @@ from __future__ import annotations
 import math
 
 from ..jit import compiled_form, jitable
-from .motion import acceleration_at, ulp
+from .motion import acceleration_at, travel, ulp
 from .pieces import (
     AT_REST,
     BREAKAWAY_NEG,
@@ -27,7 +27,6 @@ from .pieces import (
     make_piece,
     pipe_of,
     plug_of,
-    travel_of,
 )
 from .record import (
     END,
@@ -181,7 +180,9 @@ def _snap_allowance(st, t, u1):
 def values_at(st, par, t):
     """``(U1, V1, U2, V2, W_input, W_outer, W_inner)`` [m, m/s, J] at absolute time(s) ``t``
     [s] inside the current piece."""
-    d1, v1, d2, v2 = travel_of(st, t - st[T0])
+    dt = t - st[T0]
+    d1, v1 = travel(pipe_of(st), dt)
+    d2, v2 = travel(plug_of(st), dt)
     outer, inner = friction_work_of(st, par, d1, d2)
     q = st[Q]
     w_in = st[W_IN] + (q * d1 if q == q else 0.0 * d1)       # q is nan before the first step
