@@ -163,7 +163,7 @@ class RigidExact(ModelBase):
     def outputs(self) -> Outputs:
         """The contract's outputs at the current time."""
         out = self._outputs(self._st, self._par, self._st[TIME])
-        return Outputs(*out[:10], out[10] != 0.0, int(out[11]), int(out[12]))
+        return Outputs._make((*out[:10], out[10] != 0.0, int(out[11]), int(out[12])))
 
     def at_rest(self) -> bool:
         """Both bodies stuck with no load: a step under Q = 0 changes nothing but the time."""

@@ -16,22 +16,26 @@ from .cases import BenchCase, from_outputs
 
 #: a timing stops repeating once it has spent this long, s (one run always happens)
 TIME_BUDGET = 0.3
+#: a timing repeats for at least this long, s (a run of microseconds is repeated over a window
+#: long enough that a moment's load on the machine does not decide its best time)
+MIN_TIME = 0.05
 
 
-def best_time(run, repeats: int = 5, budget: float = TIME_BUDGET):
-    """Best wall time of ``run()`` over up to `repeats` calls, stopping after `budget` s in total.
+def best_time(run, repeats: int = 5, budget: float = TIME_BUDGET, min_time: float = MIN_TIME):
+    """Best wall time of ``run()`` over at least `repeats` calls and `min_time` s of calls,
+    stopping after `budget` s in total.
 
     Returns
     -------
     (object, float)
         The last call's result and the best time, s.
     """
-    best, spent, result = float("inf"), 0.0, None
-    for _ in range(max(1, repeats)):
+    best, spent, count, result = float("inf"), 0.0, 0, None
+    while count < max(1, repeats) or spent < min_time:
         start = time.perf_counter()
         result = run()
         elapsed = time.perf_counter() - start
-        best, spent = min(best, elapsed), spent + elapsed
+        best, spent, count = min(best, elapsed), spent + elapsed, count + 1
         if spent > budget:
             break
     return result, best
