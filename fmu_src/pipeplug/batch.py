@@ -34,7 +34,14 @@ from .rigid.record import (
     reset_state,
     state_record,
 )
-from .rigid.stepping import OK, at_rest, step_to
+from .rigid.stepping import (
+    MAX_EVENTS_PER_STEP,
+    OK,
+    SEGMENT_MISSED,
+    TOO_MANY_EVENTS,
+    at_rest,
+    step_to,
+)
 
 __all__ = ["blows", "RESULTS"]
 
@@ -85,7 +92,9 @@ def blows(params=None, amplitude=23e3, duration=0.05, contact_growth: bool = Fal
         par, st = as_array(par), as_array(st)
     code, case = kernel(st, par, pars, amplitude, duration, float(t_max), out)
     if code != OK:
-        raise RuntimeError(f"case {case}: the exact solver failed (code {code})")
+        why = {TOO_MANY_EVENTS: f"more than {MAX_EVENTS_PER_STEP} friction events in one step",
+               SEGMENT_MISSED: "a segment event found off its segment end"}.get(code, code)
+        raise RuntimeError(f"case {case}: the exact solver failed: {why}")
     return dict(zip(RESULTS, out.T.copy()))
 
 

@@ -56,19 +56,18 @@ _STATE_KEYS = ("time", "t0", "U1", "V1", "U2", "V2", "W_in", "W_outer", "W_inner
 _STATE_SLOTS = (TIME, T0, U1, V1, U2, V2, W_IN, W_OUTER, W_INNER, Q, KICK, HORIZON)
 
 
-_FRESH_LIST = state_record()
+_FRESH_LIST = state_record()           # a fresh model's state, as each path holds it
 _FRESH = as_array(_FRESH_LIST)
+_PATHS: dict = {}                       # compiled (bool) -> the entry points to run
 
 
 def _kernels(compiled: bool) -> tuple:
-    """The solver's entry points: compiled when asked and numba is available, else plain."""
+    """The solver's entry points: compiled when asked and numba is available (imported
+    now), else :data:`KERNELS` themselves."""
     if compiled not in _PATHS:
         fns = tuple(jit.compiled(f) for f in KERNELS) if compiled else KERNELS
-        _PATHS[compiled] = KERNELS if fns == KERNELS else fns
+        _PATHS[compiled] = KERNELS if all(a is b for a, b in zip(fns, KERNELS)) else fns
     return _PATHS[compiled]
-
-
-_PATHS: dict = {}
 
 
 def _floats(values) -> np.ndarray:
@@ -95,7 +94,7 @@ class RigidExact(ModelBase):
         par = parameter_record(params, options.contact_growth)
         self.M1, self.M2 = par[P_M1], par[P_M2]     # [kg]; M2 = 0 without a plug
         fns = _kernels(compiled)
-        self.compiled = fns is not KERNELS
+        self.compiled = fns is not KERNELS          #: True when running compiled code
         self._par = as_array(par) if self.compiled else par
         self._st = _FRESH.copy() if self.compiled else list(_FRESH_LIST)
         (self._step, self._start, self._sample, self._outputs, self._kinetic) = fns
