@@ -24,14 +24,18 @@ import hashlib
 import shutil
 import sys
 import tempfile
+import zipfile
 from pathlib import Path
 
-__all__ = ["build", "stage", "main", "DEFAULT_DEST"]
+from .native import INNER_NAME, compile_loader
+
+__all__ = ["build", "stage", "install_loader", "main", "DEFAULT_DEST"]
 
 DEFAULT_DEST = Path("dist") / "PipePlug.fmu"
 _ADAPTER = Path(__file__).resolve().parent
-_RUNTIME = ("__init__.py", "slave.py", "fmi.py", "exit_guard.py")   # shipped adapter modules
+_RUNTIME = ("__init__.py", "slave.py", "fmi.py")   # shipped adapter modules
 _TAG_LENGTH = 12
+_LINUX_BINARY = "binaries/linux64/PipePlug.so"
 
 
 def build(dest: Path = DEFAULT_DEST) -> Path:
@@ -47,10 +51,34 @@ def build(dest: Path = DEFAULT_DEST) -> Path:
         docs = Path(tmp) / "documentation"
         docs.mkdir()
         (docs / "index.html").write_text(documentation_html(), encoding="utf-8")
-        return Path(FmuBuilder.build_FMU(
+        fmu = Path(FmuBuilder.build_FMU(
             script, dest=dest, project_files=[package], documentation_folder=docs,
             canGetAndSetFMUstate=True, canSerializeFMUstate=True,
             canHandleVariableCommunicationStepSize=True, needsExecutionTool=True))
+        install_loader(fmu, compile_loader(Path(tmp) / "PipePlug.so"))
+        return fmu
+
+
+def install_loader(fmu: Path, loader: Path) -> None:
+    """Rewrite the zip ``fmu``: the loader becomes binaries/linux64/PipePlug.so, pythonfmu's
+    binary moves beside it as :data:`~pipeplug_fmu.native.INNER_NAME`; all else is copied."""
+    inner = f"{_LINUX_BINARY.rsplit('/', 1)[0]}/{INNER_NAME}"
+    rewritten = fmu.with_suffix(".rewriting")
+    with zipfile.ZipFile(fmu) as src, zipfile.ZipFile(rewritten, "w") as dst:
+        for info in src.infolist():
+            data = src.read(info)
+            if info.filename == _LINUX_BINARY:
+                dst.writestr(_renamed(info, inner), data)
+                data = loader.read_bytes()
+            dst.writestr(info, data)
+    rewritten.replace(fmu)
+
+
+def _renamed(info: zipfile.ZipInfo, name: str) -> zipfile.ZipInfo:
+    """A copy of ``info`` (date, permissions, compression) under another ``name``."""
+    copy = zipfile.ZipInfo(name, info.date_time)
+    copy.compress_type, copy.external_attr = info.compress_type, info.external_attr
+    return copy
 
 
 def stage(folder: Path) -> tuple[Path, Path]:

@@ -30,7 +30,6 @@ from __future__ import annotations
 import importlib
 import math
 import pkgutil
-from pathlib import Path
 
 from pythonfmu import (
     Boolean,
@@ -46,7 +45,6 @@ from pythonfmu import (
 from pythonfmu.enums import Fmi2Status
 
 from . import pipeplug as core
-from .exit_guard import install as guard_host_exit
 from .fmi import (
     DEFAULT_EXPERIMENT,
     DESCRIPTION,
@@ -57,9 +55,6 @@ from .fmi import (
     outlive_the_exception,
     refusal,
 )
-
-# pythonfmu 0.7's binary releases its interpreter state twice at process exit (see the guard).
-guard_host_exit(Path(__file__).resolve().parents[2] / "binaries" / "linux64" / "PipePlug.so")
 
 for _module in pkgutil.walk_packages(core.__path__, core.__name__ + "."):
     importlib.import_module(_module.name)        # every model kind, now (see the docstring)
