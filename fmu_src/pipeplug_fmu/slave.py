@@ -10,8 +10,10 @@ fmi2Error, so:
 
 * invalid parameters or options, a fixed parameter set after initialization, a set or get of
   an unknown value reference, a failure inside the model: the instance's single exception,
-  which pythonfmu logs as one fmi2Fatal line; afterwards the instance answers every call
-  quietly;
+  a :class:`~pipeplug_fmu.fmi.PipePlugRefusal`. pythonfmu logs it as one fmi2Fatal line; the
+  FMU's linux64 binary (the loader, ``native/loader.c``) gives the host the refusal's own line
+  with fmi2Error instead (pythonfmu's win64 binary, shipped unchanged, still says fmi2Fatal).
+  Afterwards the instance answers every call quietly until fmi2Reset;
 * a non-finite ``Q``, a communication point that is not the FMU's time, a step past the
   stopTime, a step before initialization: one log line, then discard; the instance stays usable.
 
@@ -64,6 +66,7 @@ OPTIONS, PARAMETERS, ParameterError = core.OPTIONS, core.PARAMETERS, core.Parame
 _Q_VR = 0                                         # value reference of Q (registered first)
 _OUTPUT_VRS = tuple(range(1, 1 + len(core.OUTPUTS)))   # the outputs follow, in table order
 _TIME_TOLERANCE = 1e-9                            # relative, contract "Stepping"
+_VR_RANGE = 2 ** 32     # pythonfmu passes fmi2ValueReference (unsigned) as a C int: shown mod this
 
 
 class PipePlug(Fmi2Slave):
@@ -203,7 +206,8 @@ class PipePlug(Fmi2Slave):
             return list(map(table.__getitem__, vrs))
         except KeyError:
             bad = next(vr for vr in vrs if vr not in table)
-            self._fatal(refusal("valueReference", bad, f"a {kind} variable of PipePlug"))
+            self._fatal(refusal("valueReference", bad % _VR_RANGE,
+                                f"a {kind} variable of PipePlug"))
             return [table.get(vr, _EMPTY[kind]) for vr in vrs]
 
     def set_real(self, vrs, values):
@@ -228,7 +232,7 @@ class PipePlug(Fmi2Slave):
             name = self._meta.get(vr, ("valueReference",))[0]
             if vr not in table or (vr != _Q_VR and name not in self._params):
                 self._fatal(refusal(name if vr in table else "valueReference",
-                                    value if vr in table else vr,
+                                    value if vr in table else vr % _VR_RANGE,
                                     f"a settable {kind} variable (the input Q or a parameter)"))
             elif vr != _Q_VR and self._model is not None:
                 self._fatal(refusal(name, value, f"no change after initialization (fixed "

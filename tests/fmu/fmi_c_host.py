@@ -8,6 +8,7 @@ it; a crash of the host shows as :class:`HostDied` with its exit code and stderr
 """
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 import threading
@@ -21,6 +22,13 @@ LOG_CATEGORIES = {"logStatusWarning", "logStatusDiscard", "logStatusError", "log
 
 class HostDied(AssertionError):
     """The C host ended while a command was pending."""
+
+
+def host_env(**variables) -> dict:
+    """This process's environment without any PYTHON* variable, plus ``variables``."""
+    env = {k: v for k, v in os.environ.items() if not k.startswith("PYTHON")}
+    env.update(variables)
+    return env
 
 
 def compile_host(dest: Path) -> Path:
@@ -142,8 +150,8 @@ def _arg(value) -> str:
 class CWorker:
     """The stateful test's worker commands (see ``fmi_sequence_worker.py``) on a C host."""
 
-    def __init__(self, exe: Path, fmu_dir: Path):
-        self.host = CHost(exe, Path(fmu_dir) / "binaries" / "linux64" / "PipePlug.so")
+    def __init__(self, exe: Path, fmu_dir: Path, env: dict | None = None):
+        self.host = CHost(exe, Path(fmu_dir) / "binaries" / "linux64" / "PipePlug.so", env)
         self.guid, self.uri = guid_of(fmu_dir), resource_uri(fmu_dir)
 
     def alive(self) -> bool:
