@@ -170,6 +170,15 @@ def initialize_only(fmu_dir, params):
     return {"status": status, "rows": rows}
 
 
+def process_pythons(fmu_dir):
+    """:func:`initialize_only` with default parameters, and the libpython files mapped then."""
+    result = initialize_only(fmu_dir, {})
+    with open("/proc/self/maps") as maps:
+        result["libpythons"] = sorted({line.split()[-1] for line in maps
+                                       if "/libpython" in line})
+    return result
+
+
 def standalone(fmu_dir):
     """Whether ``pipeplug`` is importable before the FMU loads; v_pipe after 1 ms of Q0."""
     import importlib.util
