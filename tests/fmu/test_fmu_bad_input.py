@@ -94,3 +94,10 @@ def test_elastic_is_built_or_refused_cleanly(fmu_dir, attempt):
     else:
         assert result["status"] == ERROR and len(result["log"]) == 1
         assert "elastic = True is not allowed" in result["log"][0]["message"]
+
+
+def test_refused_parameters_never_reach_libcosim(fmu_file):
+    """libcosim terminates the process on a failed exitInitializationMode: the harness's check
+    refuses the execution first, with the FMU's wording, and the process goes on."""
+    result = run_scenario("cosim_refused_parameters", fmu_file, params={"tau1": -1.0})
+    assert result["refused"] == "tau1 = -1.0 is not allowed; allowed: finite, >= 0"
