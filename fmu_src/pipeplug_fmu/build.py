@@ -9,13 +9,18 @@ Usage (inside an environment with ``pipeplug[fmu]`` installed)::
 
 The FMU's resources hold a script ``pipeplug_slave_<tag>.py`` and one package
 ``pipeplug_fmu_<tag>``: the adapter's run-time modules (:mod:`~pipeplug_fmu.slave`,
-:mod:`~pipeplug_fmu.fmi`, :mod:`~pipeplug_fmu.exit_guard`) with the core beside them as
-``pipeplug_fmu_<tag>.pipeplug``. ``<tag>`` is a digest of the content of everything shipped:
-pythonfmu runs all FMUs of a process in one interpreter and imports their modules by name, so a
-rebuilt FMU with a changed core gets names of its own and never runs another build's code, while
-two copies of the same build share modules that are identical anyway. The FMU needs nothing from
+:mod:`~pipeplug_fmu.fmi`) with the core beside them as ``pipeplug_fmu_<tag>.pipeplug``.
+``<tag>`` is a digest of the content of everything shipped: pythonfmu runs all FMUs of a process
+in one interpreter and imports their modules by name, so a rebuilt FMU with a changed core gets
+names of its own and never runs another build's code, while two copies of the same build share
+modules that are identical anyway. The FMU needs nothing from
 this repository; ``documentation/index.html`` is generated from the same tables the FMU registers
 its variables from, so the two cannot disagree.
+
+pythonfmu writes the zip with its own binaries; the build then compiles the loader
+(:mod:`pipeplug_fmu.native`, with the ``ziglang`` package) and puts it at
+``binaries/linux64/PipePlug.so``, pythonfmu's linux64 binary beside it as
+``PipePlug_pythonfmu.so``. The win64 binary is pythonfmu's, unchanged.
 """
 from __future__ import annotations
 
