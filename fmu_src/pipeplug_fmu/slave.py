@@ -136,13 +136,13 @@ class PipePlug(Fmi2Slave):
         try:
             self._model = core.build_model(params, options)
         except ParameterError as exc:
-            self._fatal(refusal(exc.name, exc.value, exc.allowed))
+            self._refuse(refusal(exc.name, exc.value, exc.allowed))
         except ImportError as exc:
             name = "elastic" if options["elastic"] else "solver"
-            self._fatal(refusal(name, options[name], f"a model available in this build "
+            self._refuse(refusal(name, options[name], f"a model available in this build "
                                                      f"(it cannot be loaded: {exc})"))
         except Exception as exc:
-            self._fatal(f"the model cannot be built: {type(exc).__name__}: {exc}")
+            self._refuse(f"the model cannot be built: {type(exc).__name__}: {exc}")
 
     def do_step(self, current_time, step_size):
         model, t, q = self._model, self._time, self._real[_Q_VR]
@@ -157,7 +157,7 @@ class PipePlug(Fmi2Slave):
             model.advance_to(q, current_time + step_size)
             out = model.outputs()
         except Exception as exc:
-            self._fatal(f"the model failed at t = {t!r} s: {type(exc).__name__}: {exc}")
+            self._refuse(f"the model failed at t = {t!r} s: {type(exc).__name__}: {exc}")
             return False
         self._time = current_time + step_size
         for table, vr, value in zip(self._out_tables, _OUTPUT_VRS, out):
@@ -206,7 +206,7 @@ class PipePlug(Fmi2Slave):
             return list(map(table.__getitem__, vrs))
         except KeyError:
             bad = next(vr for vr in vrs if vr not in table)
-            self._fatal(refusal("valueReference", bad % _VR_RANGE,
+            self._refuse(refusal("valueReference", bad % _VR_RANGE,
                                 f"a {kind} variable of PipePlug"))
             return [table.get(vr, _EMPTY[kind]) for vr in vrs]
 
@@ -231,11 +231,11 @@ class PipePlug(Fmi2Slave):
                 return
             name = self._meta.get(vr, ("valueReference",))[0]
             if vr not in table or (vr != _Q_VR and name not in self._params):
-                self._fatal(refusal(name if vr in table else "valueReference",
+                self._refuse(refusal(name if vr in table else "valueReference",
                                     value if vr in table else vr % _VR_RANGE,
                                     f"a settable {kind} variable (the input Q or a parameter)"))
             elif vr != _Q_VR and self._model is not None:
-                self._fatal(refusal(name, value, f"no change after initialization (fixed "
+                self._refuse(refusal(name, value, f"no change after initialization (fixed "
                                                  f"parameter; it stays {table[vr]!r})"))
             else:
                 table[vr] = value
@@ -251,13 +251,15 @@ class PipePlug(Fmi2Slave):
     def _log(self, line: str, status: Fmi2Status) -> None:
         self.log(escape_percent(line), status)
 
-    def _fatal(self, line: str) -> None:
+    def _refuse(self, line: str) -> None:
         """Raise the instance's one exception, carrying ``line``; quiet once that is done.
 
-        pythonfmu reports the exception as one fmi2Fatal log line that contains ``line``. The
-        line is deliberately not queued with :meth:`log` as well: pythonfmu forwards queued
-        messages while the exception is still pending, which calls the host's logger (a Python
-        callback in FMPy) with an error set and corrupts the host process's heap.
+        pythonfmu reports the exception as one fmi2Fatal log line that contains ``line`` (after
+        :data:`~pipeplug_fmu.fmi.REFUSAL_MARK`); the loader turns it into ``line`` alone, with
+        fmi2Error. The line is deliberately not queued with :meth:`log` as well: pythonfmu
+        forwards queued messages while the exception is still pending, which calls the host's
+        logger (a Python callback in FMPy) with an error set and corrupts the host process's
+        heap where no loader buffers the lines (win64).
         """
         if self._dead:
             return
@@ -287,7 +289,7 @@ class PipePlug(Fmi2Slave):
         except PipePlugRefusal:
             raise
         except Exception as exc:
-            self._fatal(refusal("FMUstate", f"{type(exc).__name__}: {exc}", "a state saved by "
+            self._refuse(refusal("FMUstate", f"{type(exc).__name__}: {exc}", "a state saved by "
                                 "fmi2GetFMUstate or fmi2DeSerializeFMUstate of PipePlug"))
 
     def _restore(self, state) -> None:
