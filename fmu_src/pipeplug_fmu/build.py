@@ -9,13 +9,18 @@ Usage (inside an environment with ``pipeplug[fmu]`` installed)::
 
 The FMU's resources hold a script ``pipeplug_slave_<tag>.py`` and one package
 ``pipeplug_fmu_<tag>``: the adapter's run-time modules (:mod:`~pipeplug_fmu.slave`,
-:mod:`~pipeplug_fmu.fmi`, :mod:`~pipeplug_fmu.exit_guard`) with the core beside them as
-``pipeplug_fmu_<tag>.pipeplug``. ``<tag>`` is a digest of the content of everything shipped:
-pythonfmu runs all FMUs of a process in one interpreter and imports their modules by name, so a
-rebuilt FMU with a changed core gets names of its own and never runs another build's code, while
-two copies of the same build share modules that are identical anyway. The FMU needs nothing from
+:mod:`~pipeplug_fmu.fmi`) with the core beside them as ``pipeplug_fmu_<tag>.pipeplug``.
+``<tag>`` is a digest of the content of everything shipped: pythonfmu runs all FMUs of a process
+in one interpreter and imports their modules by name, so a rebuilt FMU with a changed core gets
+names of its own and never runs another build's code, while two copies of the same build share
+modules that are identical anyway. The FMU needs nothing from
 this repository; ``documentation/index.html`` is generated from the same tables the FMU registers
 its variables from, so the two cannot disagree.
+
+pythonfmu writes the zip with its own binaries; the build then compiles the loader
+(:mod:`pipeplug_fmu.native`, with the ``ziglang`` package) and puts it at
+``binaries/linux64/PipePlug.so``, pythonfmu's linux64 binary beside it as
+``PipePlug_pythonfmu.so``. The win64 binary is pythonfmu's, unchanged.
 """
 from __future__ import annotations
 
@@ -24,14 +29,18 @@ import hashlib
 import shutil
 import sys
 import tempfile
+import zipfile
 from pathlib import Path
 
-__all__ = ["build", "stage", "main", "DEFAULT_DEST"]
+from .native import INNER_NAME, compile_loader
+
+__all__ = ["build", "stage", "install_loader", "main", "DEFAULT_DEST"]
 
 DEFAULT_DEST = Path("dist") / "PipePlug.fmu"
 _ADAPTER = Path(__file__).resolve().parent
-_RUNTIME = ("__init__.py", "slave.py", "fmi.py", "exit_guard.py")   # shipped adapter modules
+_RUNTIME = ("__init__.py", "slave.py", "fmi.py")   # shipped adapter modules
 _TAG_LENGTH = 12
+_LINUX_BINARY = "binaries/linux64/PipePlug.so"
 
 
 def build(dest: Path = DEFAULT_DEST) -> Path:
@@ -47,10 +56,34 @@ def build(dest: Path = DEFAULT_DEST) -> Path:
         docs = Path(tmp) / "documentation"
         docs.mkdir()
         (docs / "index.html").write_text(documentation_html(), encoding="utf-8")
-        return Path(FmuBuilder.build_FMU(
+        fmu = Path(FmuBuilder.build_FMU(
             script, dest=dest, project_files=[package], documentation_folder=docs,
             canGetAndSetFMUstate=True, canSerializeFMUstate=True,
             canHandleVariableCommunicationStepSize=True, needsExecutionTool=True))
+        install_loader(fmu, compile_loader(Path(tmp) / "PipePlug.so"))
+        return fmu
+
+
+def install_loader(fmu: Path, loader: Path) -> None:
+    """Rewrite the zip ``fmu``: the loader becomes binaries/linux64/PipePlug.so, pythonfmu's
+    binary moves beside it as :data:`~pipeplug_fmu.native.INNER_NAME`; all else is copied."""
+    inner = f"{_LINUX_BINARY.rsplit('/', 1)[0]}/{INNER_NAME}"
+    rewritten = fmu.with_suffix(".rewriting")
+    with zipfile.ZipFile(fmu) as src, zipfile.ZipFile(rewritten, "w") as dst:
+        for info in src.infolist():
+            data = src.read(info)
+            if info.filename == _LINUX_BINARY:
+                dst.writestr(_renamed(info, inner), data)
+                data = loader.read_bytes()
+            dst.writestr(info, data)
+    rewritten.replace(fmu)
+
+
+def _renamed(info: zipfile.ZipInfo, name: str) -> zipfile.ZipInfo:
+    """A copy of ``info`` (date, permissions, compression) under another ``name``."""
+    copy = zipfile.ZipInfo(name, info.date_time)
+    copy.compress_type, copy.external_attr = info.compress_type, info.external_attr
+    return copy
 
 
 def stage(folder: Path) -> tuple[Path, Path]:

@@ -28,8 +28,21 @@ UNITS = {"m": {"m": 1}, "s": {"s": 1}, "m/s": {"m": 1, "s": -1}, "kg/m3": {"kg":
 #: The default experiment written into modelDescription.xml: (start [s], stop [s], step [s]).
 DEFAULT_EXPERIMENT = (0.0, 0.1, 1e-4)
 
+#: How a refusal starts in pythonfmu's fatal log line: the FMU's linux64 binary (the loader,
+#: ``native/loader.c``, which has the same text) turns such a line into the refusal's own
+#: fmi2Error line.
+REFUSAL_MARK = "PipePlugRefusal: "
+
+
 class PipePlugRefusal(RuntimeError):
-    """The single exception an instance raises (pythonfmu reports it as fmi2Fatal)."""
+    """The single exception an instance raises.
+
+    pythonfmu reports it as fmi2Fatal, in a line holding its ``repr``: ``REFUSAL_MARK`` and the
+    refusal's text, so that the loader can find the text without parsing a Python literal.
+    """
+
+    def __repr__(self) -> str:
+        return REFUSAL_MARK + str(self)
 
 
 def escape_percent(text: str) -> str:

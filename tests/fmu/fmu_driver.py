@@ -49,7 +49,7 @@ class Slave:
         self.fmu.instantiate(callbacks=_CALLBACKS, loggingOn=True)
 
     def call(self, method: str, *args) -> int:
-        """Call an FMU2Slave method; return the FMI status (0 ok, 2 discard, 4 fatal)."""
+        """Call an FMU2Slave method; return the FMI status (0 ok, 2 discard, 3 error, 4 fatal)."""
         try:
             getattr(self.fmu, method)(*args)
         except FMICallException as exc:
