@@ -57,7 +57,8 @@ class ElasticModel(ModelBase):
     vectorised : bool, optional
         Step with whole-array numpy operations (:mod:`pipeplug.elastic.vectorised`) rather than
         the loops compiled by numba (:mod:`pipeplug.elastic.kernels`); both give the same
-        numbers. By default the compiled loops when numba is enabled (:func:`pipeplug.jit.enabled`).
+        numbers. By default the compiled loops when numba is enabled
+        (:func:`pipeplug.jit.enabled`), else the numpy steps.
     """
 
     def __init__(self, params, options, vectorised: bool | None = None):
