@@ -3,10 +3,15 @@
 The vectorised form of :mod:`pipeplug.contact.coulomb` (the problem, the sign patterns and their
 order are described there), for the elastic model's path without numba. It uses the same table
 (:data:`~pipeplug.contact.coulomb.PATTERNS`, :data:`~pipeplug.contact.coulomb.SLACK`) and, element
-by element, the same floating-point operations in the same order, so every result equals the
-scalar form's bit for bit (signed zeros included). Every argument may be a float or an array;
-they broadcast together. Nothing here is compiled: each function is a fixed, short sequence of
-whole-array operations.
+by element, the same floating-point operations in the same order, so for finite inputs every
+result equals the scalar form's bit for bit, signed zeros included. Rates are arrays over the
+nodes; masses and limits floats or arrays over the nodes. Nothing here is compiled: each
+function is a fixed, short sequence of whole-array operations.
+
+:func:`two_contacts` evaluates every pattern of the table at every node (four kinds of
+patterns, each with its own formulas, a kind at a time) and takes the first consistent one at
+each node; :class:`TwoContacts` does the same with what depends only on masses and limits
+computed once, for a kernel that projects the same cells step after step.
 """
 from __future__ import annotations
 
@@ -204,4 +209,4 @@ class TwoContacts:
 def _clip(f, c, size):
     """Clip static reactions ``f`` to their limits ``c``; ``size = |f|``. Written with ``where``
     so that a reaction within its limit is returned as it is, signed zero included."""
-    return np.where(size <= c, f, np.copysign(c, f))
+    return np.where(size > c, np.copysign(c, f), f)

@@ -49,12 +49,17 @@ class _Rod:
         self._b, self._dt = b, dt                   # b = E S dt/dx [N s/m]
 
     def drift(self):
+        """Drift the inner-face forces and the tracked displacements by one step."""
         self._inner += self._b * (self._ahead - self._behind)
         self._u += self._dt * self._v[self._cells]
 
 
 def _total(x):
-    """Sum of ``x`` in index order, as a loop from 0.0 adds it (bit for bit)."""
+    """Sum of ``x`` in index order, as a loop from 0.0 adds it (bit for bit).
+
+    ``cumsum`` adds in index order (``sum`` pairs terms up); it starts from ``x[0]`` rather
+    than 0.0, which changes nothing but the sign of a zero total: ``+ 0.0`` restores it.
+    """
     return x.cumsum()[-1] + 0.0 if x.size else 0.0
 
 
