@@ -151,40 +151,49 @@ class TwoContacts:
         self._together_behind = -s1_together * (m1 + m2)
         self._pipe_behind = -s1 * m1
         self._plug_behind = -s2_sliding * np.minimum(m1, m2)
+        # The limits of the chosen f1 and f2, to clip both at once; f2's are fixed.
+        self._limits = np.empty((2, nodes))
+        self._limits[1] = c2
 
     def __call__(self, w1, w2, c1):
         """Project free rates ``w1``, ``w2`` with soil limits ``c1``: ``x1, x2, f1, f2``."""
-        m1, m2, c2 = self.m1, self.m2, self.c2
-        mw1 = m1 * w1
-        mw2 = m2 * w2
-        scale = SLACK * (np.abs(mw1) + np.abs(mw2) + c1 + c2)
+        x1, x2, f1, f2, violation = self.table
+        mw1 = self.m1 * w1
+        mw2 = np.multiply(self.m2, w2, out=f2[_BOTH_STUCK][0])  # also f2 of both stuck
+        size2 = np.abs(mw2)
+        scale = SLACK * (np.abs(mw1) + size2 + c1 + self.c2)
         if self.slack:      # otherwise no change: the scale is never negative
             scale = np.maximum(scale, self.slack)
-        self._patterns(w1, w2, c1, mw1, mw2)
-        consistent = self.table[4] <= scale
+        self._patterns(w1, w2, c1, mw1, mw2, size2)
+        consistent = violation <= scale
         self.chosen = consistent.argmax(axis=0)    # the first consistent pattern of the table
-        x1, x2, f1, f2, violation = self._pick()
-        if not (violation <= scale).all():         # none consistent, unreachable in exact
+        picked = self._pick()
+        if not (picked[4] <= scale).all():         # none consistent, unreachable in exact
             missing = ~consistent.any(axis=0)      # arithmetic: as coulomb, the least violated
-            self.chosen[missing] = self.table[4][:, missing].argmin(axis=0)
-            x1, x2, f1, f2, violation = self._pick()
-        return x1, x2, _clip(f1, c1, np.abs(f1)), _clip(f2, c2, np.abs(f2))
+            self.chosen[missing] = violation[:, missing].argmin(axis=0)
+            picked = self._pick()
+        limits = self._limits
+        limits[0] = c1
+        forces = picked[2:4]
+        forces = _clip(forces, limits, np.abs(forces))
+        return picked[0], picked[1], forces[0], forces[1]
 
     def _pick(self):
         """The chosen pattern's ``x1, x2, f1, f2, violation`` at each node."""
         table = self.table
         return table.reshape(5, -1)[:, self.chosen * table.shape[2] + self._first]
 
-    def _patterns(self, w1, w2, c1, mw1, mw2):
-        """Fill :attr:`table`: coulomb.pattern's expressions, operation by operation."""
+    def _patterns(self, w1, w2, c1, mw1, mw2, size2):
+        """Fill :attr:`table` (f2 of both stuck is ``mw2``, there already; ``size2 = |mw2|``):
+        coulomb.pattern's expressions, operation by operation."""
         m1, m2, c2 = self.m1, self.m2, self.c2
         x1, x2, f1, f2, violation = self.table
         static = 0.0 - mw1   # the pipe's static reaction before the plug's share
+        minus_c1 = -c1
 
         rows = _BOTH_STUCK
         f1_ = np.subtract(static, mw2, out=f1[rows])
-        f2[rows] = mw2
-        np.maximum(np.abs(f1_) - c1, np.abs(mw2) - c2, out=violation[rows])
+        np.maximum(np.abs(f1_) - c1, size2 - c2, out=violation[rows])
 
         rows = _PIPE_STUCK
         x2_ = np.subtract(w2, self._dx2_pipe_stuck, out=x2[rows])
@@ -192,14 +201,14 @@ class TwoContacts:
         np.maximum(np.abs(f1_) - c1, x2_ * self._plug_ahead, out=violation[rows])
 
         rows = _TOGETHER
-        f1_ = np.multiply(-c1, self._s1_together, out=f1[rows])
+        f1_ = np.multiply(minus_c1, self._s1_together, out=f1[rows])
         x = np.divide(mw1 + mw2 + f1_, m1 + m2, out=x1[rows])
         x2[rows] = x
         f2_ = np.multiply(-m2, x - w2, out=f2[rows])
         np.maximum(x * self._together_behind, np.abs(f2_) - c2, out=violation[rows])
 
         rows = _SLIDING
-        f1_ = np.multiply(-c1, self._s1_sliding, out=f1[rows])
+        f1_ = np.multiply(minus_c1, self._s1_sliding, out=f1[rows])
         x1_ = np.add(w1, (f1_ + f2[rows]) / m1, out=x1[rows])
         x2_ = np.subtract(w2, self._dx2_sliding, out=x2[rows])
         np.maximum(x1_ * self._pipe_behind, (x1_ - x2_) * self._plug_behind,

@@ -106,21 +106,20 @@ def _plug_soil_part(pipe, plug, m1, m2, c1, c2, acc):
     """Coupled pipe and plug cells with the pipe on the soil (limits ``c1`` as in
     :func:`_soil_part`)."""
     solve = TwoContacts(m1, m2, c2, 0.0, plug.v.size)
-    both = np.empty(2 * plug.v.size)
+    # The loops add both contacts' reversing works node by node: keep them interleaved.
+    works = np.empty(2 * plug.v.size)
+    outer_works, inner_works = works[0::2], works[1::2]
 
     def part():
         p, q = pipe.v, plug.v
         x1, x2, f1, f2 = solve(pipe.trial(), plug.trial(), c1)
-        d_outer = -0.5 * f1 * (p + x1)
-        d_inner = -0.5 * f2 * (p - q + x1 - x2)
+        np.multiply(-0.5 * f1, p + x1, out=outer_works)
+        np.multiply(-0.5 * f2, p - q + x1 - x2, out=inner_works)
         p[...] = x1
         q[...] = x2
-        acc[W_OUTER] += _total(np.maximum(d_outer, 0.0))
-        acc[W_INNER] += _total(np.maximum(d_inner, 0.0))
-        # The loops add both contacts' reversing works node by node: interleave them.
-        both[0::2] = d_outer
-        both[1::2] = d_inner
-        acc[W_NEG] += _total(np.minimum(both, 0.0))
+        acc[W_OUTER] += _total(np.maximum(outer_works, 0.0))
+        acc[W_INNER] += _total(np.maximum(inner_works, 0.0))
+        acc[W_NEG] += _total(np.minimum(works, 0.0))
         return f1, f2
     return part
 
