@@ -6,7 +6,9 @@ for it. Only then is numba imported (so a rigid model, or a host without numba, 
 it), the marked helpers are registered with numba (they stay plain functions for Python
 callers), and the kernel is compiled in ``nopython`` mode with IEEE arithmetic (no fast-math:
 the compiled and the Python path give the same numbers). Without numba, or with the
-environment variable ``PIPEPLUG_NO_JIT=1``, :func:`compiled` returns the plain function.
+environment variable ``PIPEPLUG_NO_JIT=1``, :func:`compiled` returns the plain function; the
+elastic model then does not loop in Python but steps with whole-array numpy operations
+(:mod:`pipeplug.elastic.vectorised`, chosen when :func:`enabled` is False).
 
 Compiled code is cached on disk so that a new process (for example each run of the FMU, whose
 files an importer unpacks into a fresh temporary folder and may delete afterwards) reuses it.

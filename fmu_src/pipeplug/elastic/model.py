@@ -18,6 +18,9 @@ drift with the new velocities. At Courant number 1 this transports the rod's wav
 (d'Alembert) with no odd-even decoupling: node-centred velocities with half masses at the ends
 alternate between 0 and twice the wave velocity at the struck end (docs/corrections.md D6).
 
+Without numba the same steps run as whole-array numpy operations instead of compiled loops
+(:mod:`pipeplug.elastic.vectorised`), with the same results bit for bit.
+
 Stepping: a communication step h is taken as n = ceil(h/h_max - 1e-9) equal internal steps,
 h_max = courant dx / c_fastest. The outputs follow the contract's section rule.
 
@@ -30,10 +33,11 @@ import math
 
 import numpy as np
 
+from .. import jit
 from ..interface import ModelBase, Outputs
-from ..jit import compiled
 from .grid import Section, build_grid
 from .kernels import F_IN, F_OUT, K1, K2, KERNELS, M1, M2, N_ACC, W_IN, W_INNER, W_NEG, W_OUTER
+from .vectorised import VECTORISED
 
 __all__ = ["ElasticModel"]
 
@@ -50,14 +54,22 @@ class ElasticModel(ModelBase):
         simulated), else :class:`~pipeplug.params.ParameterError` names ``dx``.
     options : Options
         ``contact_growth`` selects the penetrated contact length of the soil friction.
+    vectorised : bool, optional
+        Step with whole-array numpy operations (:mod:`pipeplug.elastic.vectorised`) rather than
+        the loops compiled by numba (:mod:`pipeplug.elastic.kernels`); both give the same
+        numbers. By default the compiled loops when numba is enabled
+        (:func:`pipeplug.jit.enabled`), else the numpy steps.
     """
 
-    def __init__(self, params, options):
+    def __init__(self, params, options, vectorised: bool | None = None):
         self.params = params
         self.grid = g = build_grid(params)
-        kernel = KERNELS[(g.n2 > 0, g.soil, bool(options.contact_growth))]
-        self.kernel_name = kernel.__name__
-        self._kernel = compiled(kernel)
+        effects = (g.n2 > 0, g.soil, bool(options.contact_growth))
+        self.kernel_name = KERNELS[effects].__name__
+        if vectorised is None:
+            vectorised = not jit.enabled()
+        self.vectorised = bool(vectorised)
+        self._kernel = VECTORISED[effects] if vectorised else jit.compiled(KERNELS[effects])
         self.time = 0.0
         self._dt = 0.0  # the last internal step [s] (the discrete elastic energy needs it)
         self.v1, self.N1 = np.zeros(g.n1), np.zeros(g.n1 + 1)
