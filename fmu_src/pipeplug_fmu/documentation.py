@@ -115,7 +115,7 @@ binary is not run-tested by this project.</p>
 <p>The FMU brings its own copy of the core and uses it even when the host has imported
 another one. With numba installed, the elastic kernels are compiled (cached on disk under
 <code>~/.cache/pipeplug</code> or <code>PIPEPLUG_CACHE_DIR</code>); without it, or with
-<code>PIPEPLUG_NO_JIT=1</code>, they run as plain Python with the same results.</p>
+<code>PIPEPLUG_NO_JIT=1</code>, they run as whole-array numpy with the same results, bit for bit.</p>
 """
 
 

@@ -119,7 +119,7 @@ class RigidExact(ModelBase):
         end = p.end
         # Round-off of the position, and the way covered in a few ulps of the event time (a
         # crossing sooner after the piece start than time can resolve is taken at its start).
-        dt = 4.0 * math.ulp(self._t_event)
+        dt = 4.0 * math.ulp(max(self._t_event, p.t0 + self._horizon))   # the search's own
         a = abs(p.pipe.acceleration_at(U1))
         allowed = _SNAP_LIMIT * (abs(end - p.U1) + abs(end)) + dt * (abs(p.V1) + a * dt)
         if not abs(U1 - end) <= allowed:

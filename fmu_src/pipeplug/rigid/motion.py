@@ -14,6 +14,11 @@ accurate as k -> 0 (no large equilibrium offset that cancels)::
     k > 0:  S = sin(w t)/w,   C = 2 sin(w t/2)^2 / k,     S' = cos(w t)
     k < 0:  S = sinh(l t)/l,  C = 2 sinh(l t/2)^2 / (-k), S' = cosh(l t)
     k = 0:  S = t,            C = t^2/2,                  S' = 1
+
+Where |k| t^2 is small the three are one Taylor series in x = k t^2 (the same for both signs
+of k), used below |x| = 1e-3 (truncation below 1e-17 relative): the closed forms would divide
+quantities that underflow when k is tiny (a friction of 1e-295 Pa), and the series is also the
+more accurate of the two there.
 """
 from __future__ import annotations
 
@@ -49,10 +54,19 @@ class Motion:
 
     def _basis(self, t):
         """(S, C, S') at time ``t`` [s] (a float, or a numpy array for dense output)."""
-        k, w = self.k, self._w
+        k = self.k
         if k == 0.0:
             return t, 0.5 * t * t, 1.0
-        fn = math if isinstance(t, float) else np
+        x = k * t * t
+        if isinstance(t, float):
+            return _series(t, x) if abs(x) < _SERIES_BELOW else self._closed(t, math)
+        closed, series = self._closed(t, np), _series(t, x)
+        near = np.abs(x) < _SERIES_BELOW
+        return tuple(np.where(near, a, b) for a, b in zip(series, closed))
+
+    def _closed(self, t, fn):
+        """(S, C, S') in closed form; ``fn`` is math (floats) or numpy (arrays)."""
+        k, w = self.k, self._w
         if k > 0.0:
             half = fn.sin(0.5 * w * t)
             return fn.sin(w * t) / w, 2.0 * half * half / k, fn.cos(w * t)
@@ -116,6 +130,17 @@ class Motion:
             return _first_quadratic_root(0.5 * self.a0, self.V0, g0, t_max)
         return refine_root(lambda t: self.state(t)[0] - target,
                            lambda t: self.state(t)[1], 0.0, t_max, xtol)
+
+
+_SERIES_BELOW = 1e-3     # |k t^2| below which the Taylor series is used
+
+
+def _series(t, x):
+    """(S, C, S') as Taylor series in x = k t^2, four terms each (float or array)."""
+    S = t * (1.0 - x / 6.0 * (1.0 - x / 20.0 * (1.0 - x / 42.0)))
+    C = 0.5 * t * t * (1.0 - x / 12.0 * (1.0 - x / 30.0 * (1.0 - x / 56.0)))
+    dS = 1.0 - 0.5 * x * (1.0 - x / 12.0 * (1.0 - x / 30.0))
+    return S, C, dS
 
 
 def _first_quadratic_root(a: float, b: float, c: float, t_max: float) -> float:

@@ -132,3 +132,15 @@ def test_crossing_sooner_than_time_can_resolve_is_taken_at_once():
     m1 = Params().M1
     assert out.v_pipe == pytest.approx(-0.015625 / m1, rel=1e-12)
     assert out.u_pipe == pytest.approx(-0.5 * 0.015625 ** 2 / m1, rel=1e-12)
+
+
+def test_nearly_no_outer_friction_keeps_the_closed_form_accurate():
+    """tau1 = 2.4e-295 Pa: the harmonic piece's C = 2 sin(w t/2)^2 / k underflowed into
+    subnormal numbers (k ~ 1e-296 1/s^2) and the pipe crossed its start 1e-28 m off. The Taylor
+    series in k t^2 is used there; derived: the pipe then moves as M1 U'' = Q, friction-free."""
+    model = build_model({"tau1": 2.418727066052555e-295, "tau2": 0.0, "L2": 0.0},
+                        {"contact_growth": True})
+    model.advance(2.648521645394783e-254, 0.015625)
+    model.advance(-1.0, 0.015625)
+    m1 = Params().M1
+    assert model.outputs().u_pipe == pytest.approx(-0.5 * 0.015625 ** 2 / m1, rel=1e-12)
