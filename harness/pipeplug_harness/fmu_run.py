@@ -14,7 +14,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["Pulse", "Run", "RunIncomplete", "load_signal", "run_fmu", "OUTPUTS", "DEFAULT_FMU"]
+__all__ = ["Pulse", "Run", "RunIncomplete", "load_signal", "run_fmu", "extracted", "OUTPUTS",
+           "DEFAULT_FMU"]
 
 OUTPUTS = ("v_pipe", "v_plug", "u_pipe", "u_plug", "F_outer", "F_inner", "W_input",
            "W_friction", "pipe_mode", "plug_mode")
@@ -66,7 +67,7 @@ def load_signal(run: Run) -> np.ndarray:
     return np.array(rows, dtype=[("time", np.float64), ("Q", np.float64)])
 
 
-def _extracted(fmu: str | os.PathLike) -> str:
+def extracted(fmu: str | os.PathLike) -> str:
     """Extract the FMU once per process into a fixed folder (so JIT caches can hit)."""
     path = Path(fmu).resolve()
     key = (str(path), path.stat().st_mtime)
@@ -101,7 +102,7 @@ def run_fmu(run: Run, fmu: str | os.PathLike = DEFAULT_FMU, outputs=OUTPUTS) -> 
     """
     from fmpy import simulate_fmu
     result = simulate_fmu(
-        _extracted(fmu), fmi_type="CoSimulation", start_time=0.0, stop_time=run.stop_time,
+        extracted(fmu), fmi_type="CoSimulation", start_time=0.0, stop_time=run.stop_time,
         output_interval=run.step, start_values=dict(run.params), input=load_signal(run),
         output=list(outputs), validate=False)
     last = float(result["time"][-1])
