@@ -6,7 +6,11 @@ points (the FMU holds Q constant over a step). Inside the window the FMU is step
 
 * in steps of at most ``step`` while the blow acts and for a while after it (the blow's
   duration in the rigid model, a wave round trip 2 L1 / c1 in the elastic one), so that the
-  peak velocities are seen (they are the largest values at the communication points);
+  peak velocities are seen (they are the largest values at the communication points). In the
+  elastic model these steps are a whole number of its internal steps (``step`` rounded down,
+  one at least): the FMU splits a communication step into equal internal steps no longer than
+  courant dx / c, and on such steps the waves travel at the Courant number asked for (1: exact
+  transport) instead of a smaller one;
 * then, while the pipe still moves, in steps doubling in length;
 * then in one step to the next blow, as soon as the motion has died out: ``at_rest`` (a step
   under Q = 0 leaves the whole state unchanged, so the model skips it without internal steps),
@@ -59,6 +63,7 @@ class Blow:
     v_pipe_end: float         #: [m/s]
     v_plug_end: float         #: [m/s]
     settled: str              #: "rest" (at_rest), "front" (front end still) or "moving"
+    motion: float             #: from the blow's start until its motion died out (settled) [s]
     steps: int                #: communication steps of the window
 
 
@@ -98,36 +103,58 @@ def run_drive(spec: DriveSpec, fmu) -> DriveResult:
 
 
 class _Pace(NamedTuple):
+    step: float      #: the fine communication step [s]
     fine: float      #: fine steps for this long after the blow [s]
     settle: float    #: the front end still this long: the motion has died out [s]
+    grain: float     #: the elastic model's internal step [s] (0: rigid)
 
 
 def _pace(spec: DriveSpec) -> _Pace:
     if not spec.elastic:
-        return _Pace(spec.duration, math.inf)
+        return _Pace(spec.step, spec.duration, math.inf, 0.0)
+    from pipeplug.elastic.grid import build_grid
     p = spec.params()
+    grain = build_grid(p).h_max
     round_trip = 2.0 * p.L1 / p.c1
-    return _Pace(round_trip, round_trip)
+    return _Pace(grain * max(1, math.floor(spec.step / grain + 1e-9)), round_trip, round_trip,
+                 grain)
+
+
+def _blow_points(t0: float, duration: float, pace: _Pace) -> list:
+    """The communication points of a blow after ``t0``, its end last.
+
+    Rigid: equal steps of at most ``pace.step``. Elastic: steps of ``pace.step``, a whole
+    number of internal steps (so that waves travel at the Courant number asked for), and the
+    remainder.
+    """
+    t_end = t0 + duration
+    if not pace.grain:
+        n = max(1, math.ceil(duration / pace.step - 1e-9))
+        return [t0 + duration * i / n for i in range(1, n)] + [t_end]
+    m = math.floor(duration / pace.step + 1e-9)
+    points = [t0 + i * pace.step for i in range(1, m + 1)]
+    if points and t_end - points[-1] <= 1e-9 * pace.step:
+        points[-1] = t_end
+    else:
+        points.append(t_end)
+    return points
 
 
 def _blow(s: FmuSession, spec: DriveSpec, k: int, before: Reading,
           pace: _Pace) -> tuple[Blow, Reading]:
     """Blow ``k`` and the motion after it, up to the next blow's start."""
-    t0, h = k * spec.period, spec.step
-    t_blow_end, t_next = t0 + spec.duration, (k + 1) * spec.period
+    t0, h, t_next = k * spec.period, pace.step, (k + 1) * spec.period
     steps0 = s.steps
     peaks = [before.v_pipe, before.v_plug]
-    n = max(1, math.ceil(spec.duration / h - 1e-9))
     t = t0
-    for i in range(1, n + 1):
-        tb = t_blow_end if i == n else t0 + spec.duration * i / n
+    for tb in _blow_points(t0, spec.duration, pace):
         out = s.step(t, tb - t, spec.amplitude)
         t = tb
         _raise(peaks, out)
-    settled, still_since, fine_until = "moving", None, t + pace.fine
+    settled, motion, still_since, fine_until = "moving", spec.period, None, t + pace.fine
     while t < t_next:
         if out.at_rest or (still_since is not None and t - still_since >= pace.settle):
-            settled = "rest" if out.at_rest else "front"
+            settled, motion = ("rest", t - t0) if out.at_rest else ("front", still_since - t0)
             out = s.step(t, t_next - t, 0.0)          # no internal steps when at rest
             break
         if t >= fine_until:
@@ -143,7 +170,7 @@ def _blow(s: FmuSession, spec: DriveSpec, k: int, before: Reading,
     blow = Blow(k + 1, t0, out.u_pipe - before.u_pipe, out.u_pipe, peaks[0], peaks[1],
                 out.W_input - before.W_input, out.W_friction_outer - before.W_friction_outer,
                 out.W_friction_inner - before.W_friction_inner, out.v_pipe, out.v_plug,
-                settled, s.steps - steps0)
+                settled, motion, s.steps - steps0)
     return blow, out
 
 
