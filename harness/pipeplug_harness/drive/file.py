@@ -17,8 +17,9 @@ A drive file has the scene sections ``[pipe]``, ``[plug]``, ``[soil]``, ``[blows
     refusal_count = 10      #     refusal_count blows that together advance the pipe less
     refusal_length = 0.025  #     than refusal_length [m] (default: 10 blows per 25 mm)
     max_blows = 100000      # stop after this many blows
-    step = 1e-4             # [s] communication step while the pipe moves (default:
-                            #     duration / 10)
+    step = 1e-4             # [s] communication step while the blow acts and just after it
+                            #     (default: duration / 10; elastic: rounded down to whole
+                            #     internal steps, see pipeplug_harness.drive.run)
 
 A set threshold of 0 leaves only the other refusal: a blow that does not move the front end at
 all (static friction holds it). Unknown sections, keys or values are errors naming the allowed
