@@ -46,7 +46,7 @@ def plot_penetration(path: Path, result: DriveResult) -> Path:
 
 def plot_drivability(path: Path, result: DriveResult) -> Path:
     """Blows per 0.25 m of penetration against penetration (the last interval, where the drive
-    stopped, drawn hatched: it is partial)."""
+    stopped, drawn hatched over the part driven: its count is partial)."""
     plt = _pyplot()
     starts, counts = blows_per_interval(result)
     fig, ax = plt.subplots(figsize=(7.5, 4.2))
@@ -54,8 +54,10 @@ def plot_drivability(path: Path, result: DriveResult) -> Path:
         full = np.arange(counts.size) < counts.size - 1     # the drive stopped in the last
         ax.bar(starts[full], counts[full], width=INTERVAL, align="edge", color="C0",
                edgecolor="C0", lw=0.3)
-        ax.bar(starts[~full], counts[~full], width=INTERVAL, align="edge", color="none",
-               edgecolor="C0", hatch="///", lw=0.6, label="last interval, partial")
+        covered = max(result.penetration - starts[-1], 0.02 * INTERVAL)
+        ax.bar(starts[~full], counts[~full], width=covered, align="edge", color="none",
+               edgecolor="C0", hatch="///", lw=0.6,
+               label=f"last interval, partial ({covered:.3g} m driven)")
         ax.legend(fontsize=8)
     ax.set_xlabel("penetration of the front end [m]")
     ax.set_ylabel(f"blows per {INTERVAL:g} m")
