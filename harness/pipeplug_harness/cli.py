@@ -26,6 +26,9 @@ SUBCOMMANDS = {
                   "energy, drift"),
     "scene": ("pipeplug_harness.scenes.command", "harness",
               "run a scene file (TOML: pipe, plug, soil, blows, model, output) through the FMU"),
+    "drive": ("pipeplug_harness.drive.command", "harness",
+              "drive a pipe blow by blow from the soil face to a target or refusal (TOML: pipe, "
+              "plug, soil, blows, model, drive); per-blow CSV, drivability PNG"),
 }
 
 
