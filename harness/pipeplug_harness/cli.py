@@ -26,6 +26,9 @@ SUBCOMMANDS = {
                   "energy, drift"),
     "scene": ("pipeplug_harness.scenes.command", "harness",
               "run a scene file (TOML: pipe, plug, soil, blows, model, output) through the FMU"),
+    "system": ("pipeplug_harness.system.command", "cosim",
+               "run a co-simulated system (SSP or OSP file, e.g. dist/PipeRamming.ssp: Hammer "
+               "driving PipePlug) with libcosim, every parameter checked first; CSV and PNG"),
 }
 
 
