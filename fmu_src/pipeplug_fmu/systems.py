@@ -33,6 +33,7 @@ equal sets. (With tau1 = 2e4 Pa a blow's motion would last 0.265 s and the blows
 from __future__ import annotations
 
 import math
+import os
 import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -113,7 +114,12 @@ def grid_misses(system: System) -> list[float]:
 def write_systems(folder: Path, pipeplug_fmu: Path, hammer_fmu: Path,
                   system: System | None = None) -> list[Path]:
     """Write the SSP archive, the OSP configuration and both OSP model descriptions into
-    ``folder`` (beside the FMUs, which the OSP configuration names); return their paths."""
+    ``folder``; return their paths.
+
+    The SSP archive holds copies of the FMUs; the OSP configuration names them by their paths
+    relative to ``folder`` (libcosim finds the model descriptions beside the FMUs or, failing
+    that, beside the configuration).
+    """
     system = system or default_system()
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
@@ -130,7 +136,8 @@ def write_systems(folder: Path, pipeplug_fmu: Path, hammer_fmu: Path,
 
 
 def _relative(path: Path, folder: Path) -> str:
-    return Path(path).resolve().relative_to(Path(folder).resolve()).as_posix()
+    """``path`` relative to ``folder`` (``..`` allowed), as a URI reference."""
+    return Path(os.path.relpath(Path(path).resolve(), Path(folder).resolve())).as_posix()
 
 
 def write_ssp(dest: Path, pipeplug_fmu: Path, hammer_fmu: Path, system: System) -> Path:
@@ -254,7 +261,8 @@ def _check_grid(system: System) -> None:
                          f"{system.step!r} s: need finite start < stop and step > 0")
     misses = grid_misses(system)
     if misses:
-        raise ValueError(f"the step {system.step!r} s misses the blow edges {misses} s: "
+        shown = ", ".join(f"{edge:.12g}" for edge in misses)
+        raise ValueError(f"the step {system.step!r} s misses the blow edges [{shown}] s: "
                          f"choose a step that divides every edge's time from the start")
 
 

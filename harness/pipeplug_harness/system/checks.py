@@ -69,8 +69,10 @@ def check_system(system: SystemFile, stop: float | None = None) -> Plan:
         misses = systems.grid_misses(systems.System(
             hammer=hammer.values, start=system.start, stop=stop, step=system.step))
         if misses:
+            shown = ", ".join(f"{edge:.12g}" for edge in misses[:5])
             warnings.append(f"component {hammer.name}: the step {system.step!r} s misses the "
-                            f"blow edges {misses[:5]} s (each acts at the next grid point)")
+                            f"blow edges [{shown}{', ...' if len(misses) > 5 else ''}] s (each "
+                            f"acts at the next grid point)")
     return Plan(system.start, system.step, steps, warnings)
 
 
