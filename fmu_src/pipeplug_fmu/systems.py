@@ -21,7 +21,9 @@ input ``Q``, a fixed communication step and every parameter's value:
   ``x_monitor``, the struck end when x_monitor = 0), Hammer's Q as a Force. Hammer is a force
   source with no velocity input, so there is no port of Hammer's to bond to PipePlug's, and OSP-IS
   allows a VariableGroupConnection only between groups of one type: the connection is the
-  variable connection Hammer.Q -> PipePlug.Q.
+  variable connection Hammer.Q -> PipePlug.Q. (libcosim refuses a group connection of Hammer's
+  Force to PipePlug's whole port, "different size [0] than ... [2]"; it accepts one to the port's
+  nested Force group, which makes the same scalar connection.)
 
 The default system (:func:`default_system`) is PipePlug with the contract's defaults except
 tau1 = 4e4 Pa under three of Hammer's default blows (23 kN for 50 ms every 0.2 s), stepped at

@@ -49,7 +49,11 @@ def main(args: argparse.Namespace) -> int:
     from .run import run_system
 
     began = time.perf_counter()
-    result = run_system(system, plan)
+    try:
+        result = run_system(system, plan)
+    except AssertionError as exc:          # libcosimpy's way of saying libcosim refused it
+        print(f"pipeplug system: libcosim refused {path}: {exc}")
+        return 2
     elapsed = time.perf_counter() - began
     args.out.mkdir(parents=True, exist_ok=True)
     stem = Path(path).stem if Path(path).is_file() else Path(path).name
