@@ -130,7 +130,8 @@ def documentation_html() -> str:
     return "\n".join(parts)
 
 
-def _table(caption: str, header: tuple, rows) -> str:
+def table(caption: str, header: tuple, rows) -> str:
+    """An HTML table (also Hammer.fmu's documentation's)."""
     head = "".join(f"<th>{escape(h)}</th>" for h in header)
     body = "".join("<tr>" + "".join(f"<td>{escape(str(c))}</td>" for c in row) + "</tr>\n"
                    for row in rows)
@@ -140,21 +141,21 @@ def _table(caption: str, header: tuple, rows) -> str:
 
 def _input_table() -> str:
     name, unit, meaning = fmi.INPUT
-    return _table("Input (Real, continuous)", ("name", "unit", "start", "meaning"),
+    return table("Input (Real, continuous)", ("name", "unit", "start", "meaning"),
                   [(name, unit, 0, meaning)])
 
 
 def _output_table() -> str:
     rows = [(o.name, o.unit if o.kind == "Real" else "-",
              o.kind if o.kind == "Real" else "Integer (-1, 0, 1)", o.meaning) for o in OUTPUTS]
-    return _table("Outputs (initial exact, start 0; values at the end of each step)",
+    return table("Outputs (initial exact, start 0; values at the end of each step)",
                   ("name", "unit", "type", "meaning"), rows)
 
 
 def _parameter_table() -> str:
     rows = [(p.name, p.unit, f"{p.default:g}", p.allowed() + _active(p), p.description)
             for p in PARAMETERS]
-    return _table("Parameters (Real, fixed)", ("name", "unit", "default", "allowed", "meaning"),
+    return table("Parameters (Real, fixed)", ("name", "unit", "default", "allowed", "meaning"),
                   rows)
 
 
@@ -169,7 +170,7 @@ def _option_table() -> str:
     rows = [(name, "Boolean" if isinstance(default, bool) else "String", _fmi_text(default),
              ", ".join(map(_fmi_text, allowed)), meaning)
             for name, (allowed, default, meaning) in OPTIONS.items()]
-    return _table("Options (fixed parameters)", ("name", "type", "default", "allowed",
+    return table("Options (fixed parameters)", ("name", "type", "default", "allowed",
                                                  "meaning"), rows)
 
 

@@ -29,6 +29,9 @@ SUBCOMMANDS = {
     "drive": ("pipeplug_harness.drive.command", "harness",
               "drive a pipe blow by blow from the soil face to a target or refusal (TOML: pipe, "
               "plug, soil, blows, model, drive); per-blow CSV, drivability PNG"),
+    "system": ("pipeplug_harness.system.command", "cosim",
+               "run a co-simulated system (SSP or OSP file, e.g. dist/PipeRamming.ssp: Hammer "
+               "driving PipePlug) with libcosim, every parameter checked first; CSV and PNG"),
 }
 
 

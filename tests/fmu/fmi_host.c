@@ -198,11 +198,17 @@ static void pulse(fmi2Component c, char **a) {
     free(out), free(vr);
 }
 
+static char guard_symbol[256];
+
 int main(int argc, char **argv) {
     if (argc != 2) {
         fprintf(stderr, "usage: %s BINARY < commands\n", argv[0]);
         return 2;
     }
+    /* the loader's test export: <modelIdentifier>_exitGuardTarget, from the binary's name */
+    const char *base = strrchr(argv[1], '/') ? strrchr(argv[1], '/') + 1 : argv[1];
+    snprintf(guard_symbol, sizeof guard_symbol, "%.*s_exitGuardTarget",
+             (int)(strstr(base, ".so") ? strstr(base, ".so") - base : (long)strlen(base)), base);
     lib = dlopen(argv[1], RTLD_NOW | RTLD_LOCAL);
     if (lib == NULL) {
         printf("@@ 4 dlopen %s\n", dlerror());
@@ -282,7 +288,7 @@ int main(int argc, char **argv) {
             free(name), free(value);
             answer_status(0);
         } else if (strcmp(op, "guard") == 0) {
-            void *(*target)(void) = (void *(*)(void))dlsym(lib, "PipePlug_exitGuardTarget");
+            void *(*target)(void) = (void *(*)(void))dlsym(lib, guard_symbol);
             uint64_t *at = target ? target() : NULL;
             printf("@@ 0 guard %llu %llu %llu\n", (unsigned long long)(uintptr_t)at,
                    at ? (unsigned long long)at[0] : 0ULL, at ? (unsigned long long)at[1] : 0ULL);

@@ -33,3 +33,35 @@ def test_refused_with_the_fmu_wording(values, name, text):
 @pytest.mark.parametrize("values", ACCEPTED)
 def test_accepted(values):
     assert check_parameters(values) is None
+
+
+#: Hammer start values -> (refused name, text); from the contract's Hammer section
+HAMMER_REFUSED = [
+    ({"period": 0.0}, "period", "period = 0.0 is not allowed; allowed: finite, > 0"),
+    ({"duration": 0.25}, "duration", "duration = 0.25 is not allowed; allowed: finite, > 0 and "
+                                     "<= period"),
+    ({"amplitude": math.inf}, "amplitude", "amplitude = inf is not allowed"),
+    ({"count": -2}, "count", "count = -2 is not allowed"),
+    ({"count": 2.5}, "count", "count = 2.5 is not allowed; allowed: an Integer >= 0"),
+    ({"start": math.nan}, "start", "start = nan is not allowed"),
+    ({"force": 1.0}, "force", "force = 1.0 is not allowed; allowed: a parameter of Hammer"),
+]
+HAMMER_ACCEPTED = [{}, {"count": 0}, {"duration": 0.2, "period": 0.2},
+                   {"amplitude": -5e3, "start": -0.1}, {"duration": 0.5, "period": 1.0}]
+
+
+@pytest.mark.parametrize(("values", "name", "text"), HAMMER_REFUSED)
+def test_hammer_refused_with_the_fmu_wording(values, name, text):
+    from pipeplug_harness.cosim import check_hammer_parameters
+
+    with pytest.raises(ParameterError) as refused:
+        check_hammer_parameters(values)
+    assert refused.value.name == name
+    assert text in str(refused.value)
+
+
+@pytest.mark.parametrize("values", HAMMER_ACCEPTED)
+def test_hammer_accepted(values):
+    from pipeplug_harness.cosim import check_hammer_parameters
+
+    assert check_hammer_parameters(values) is None

@@ -1,4 +1,7 @@
-/* PipePlug.so: the FMI 2.0 binary of PipePlug.fmu on linux64.
+/* The FMI 2.0 binary, on linux64, of the project's pythonfmu FMUs (PipePlug.fmu, Hammer.fmu).
+ *
+ * Compiled once per FMU with -DMODEL_IDENTIFIER=<its modelIdentifier> (say PipePlug) and shipped
+ * as binaries/linux64/PipePlug.so; every name below that belongs to one FMU derives from it.
  *
  * pythonfmu's binary (shipped beside this one as PipePlug_pythonfmu.so) runs the slave in a
  * Python interpreter that must already be in the process: it is not linked to libpython. This
@@ -73,10 +76,18 @@ typedef struct {
 } fmi2CallbackFunctions;
 
 #define EXPORT __attribute__((visibility("default")))
-#define INNER_BINARY "PipePlug_pythonfmu.so"
-#define PYTHON_VARIABLE "PIPEPLUG_PYTHON"
+#ifndef MODEL_IDENTIFIER
+#error "compile with -DMODEL_IDENTIFIER=<the FMU's modelIdentifier>"
+#endif
+#define STRING_OF_(x) #x
+#define STRING_OF(x) STRING_OF_(x)
+#define JOINED_(a, b) a##b
+#define JOINED(a, b) JOINED_(a, b)
+#define MODEL STRING_OF(MODEL_IDENTIFIER)  /* "PipePlug": the FMU's name in log lines */
+#define INNER_BINARY MODEL "_pythonfmu.so"
+#define PYTHON_VARIABLE "PIPEPLUG_PYTHON"   /* one variable for all of the project's FMUs */
 #define MIN_MINOR 10                       /* Python 3.10 or newer */
-#define REFUSAL "PipePlugRefusal: "        /* repr of the slave's refusals (pipeplug_fmu.fmi) */
+#define REFUSAL MODEL "Refusal: "          /* repr of the slave's refusals (pipeplug_fmu.fmi) */
 #define PYSTATE_SYMBOL "_ZN12_GLOBAL__N_17pyStateE"   /* (anonymous namespace)::pyState */
 #define PYSTATE_SIZE 16                    /* a shared_ptr: object pointer, control block */
 
@@ -379,21 +390,21 @@ static int ensure_python(Text *why) {
     if (chosen != NULL && *chosen) {
         ok = ask_python(chosen, &probe) == 0 && start_python(&probe, error, sizeof error) == 0;
         if (!ok)
-            text_printf(why, "PipePlug cannot use the Python given by %s=%s: it %s. Set %s to "
+            text_printf(why, MODEL " cannot use the Python given by %s=%s: it %s. Set %s to "
                         "the python executable of a Python >= 3.%d with numpy (a virtual "
                         "environment's bin/python works).", PYTHON_VARIABLE, chosen,
                         error[0] ? error : probe.error, PYTHON_VARIABLE, MIN_MINOR);
     } else if (find_on_path("python3", on_path, sizeof on_path) == 0) {
         ok = ask_python(on_path, &probe) == 0 && start_python(&probe, error, sizeof error) == 0;
         if (!ok)
-            text_printf(why, "PipePlug needs a Python >= 3.%d with numpy: none is loaded in this "
+            text_printf(why, MODEL " needs a Python >= 3.%d with numpy: none is loaded in this "
                         "process, %s is not set, and python3 on PATH (%s) %s. Set %s to the "
                         "python executable of such a Python (a virtual environment's bin/python "
                         "works).", MIN_MINOR, PYTHON_VARIABLE, on_path,
                         error[0] ? error : probe.error, PYTHON_VARIABLE);
     } else {
         ok = 0;
-        text_printf(why, "PipePlug needs a Python >= 3.%d with numpy: none is loaded in this "
+        text_printf(why, MODEL " needs a Python >= 3.%d with numpy: none is loaded in this "
                     "process, %s is not set, and there is no python3 on PATH. Set %s to the "
                     "python executable of such a Python (a virtual environment's bin/python "
                     "works).", MIN_MINOR, PYTHON_VARIABLE, PYTHON_VARIABLE);
@@ -451,15 +462,16 @@ static void empty_pystate(void) {
 
 
 
-/* Where the exit guard acts (pythonfmu's pyState), NULL when it is not armed. For tests. */
-EXPORT void *PipePlug_exitGuardTarget(void) { return pystate; }
+/* Where the exit guard acts (pythonfmu's pyState), NULL when it is not armed. For tests.
+ * (PipePlug_exitGuardTarget in PipePlug.so.) */
+EXPORT void *JOINED(MODEL_IDENTIFIER, _exitGuardTarget)(void) { return pystate; }
 
 /* Loading pythonfmu's binary ------------------------------------------------------------------ */
 static int load_inner(Text *why) {
     Dl_info self;
     char path[4096];
     if (dladdr((void *)load_inner, &self) == 0 || self.dli_fname == NULL) {
-        text_printf(why, "PipePlug cannot find its own binary");
+        text_printf(why, MODEL " cannot find its own binary");
         return -1;
     }
     const char *slash = strrchr(self.dli_fname, '/');
@@ -467,12 +479,12 @@ static int load_inner(Text *why) {
              self.dli_fname, INNER_BINARY);
     void *lib = dlopen(path, RTLD_NOW | RTLD_LOCAL);
     if (lib == NULL) {
-        text_printf(why, "PipePlug cannot load %s: %s", path, dlerror());
+        text_printf(why, MODEL " cannot load %s: %s", path, dlerror());
         return -1;
     }
 #define LOAD_POINTER(ret, name, args) \
     if ((*(void **)&inner.name = dlsym(lib, #name)) == NULL) { \
-        text_printf(why, "PipePlug: %s has no %s", path, #name); \
+        text_printf(why, MODEL ": %s has no %s", path, #name); \
         return -1; \
     }
     INNER_FUNCTIONS(LOAD_POINTER)
@@ -575,7 +587,7 @@ EXPORT fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String 
         in->inner = inner.fmi2Instantiate(name, type, guid, uri, &in->mine, visible, logging_on);
         finish(in, fmi2OK);
     } else {
-        host_log(in, fmi2Error, "logStatusError", why.data ? why.data : "PipePlug cannot start");
+        host_log(in, fmi2Error, "logStatusError", why.data ? why.data : MODEL " cannot start");
     }
     free(why.data);
     if (in->inner == NULL) {
