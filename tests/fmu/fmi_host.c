@@ -234,8 +234,10 @@ int main(int argc, char **argv) {
             fmi2Component made = f(name, 1, guid, uri, &callbacks, 0, atoi(words[4]));
             if (made == NULL) {
                 printf("@@ 0 null\n");
+            } else if (instances[(n_instances + 1) % MAX] != NULL) {
+                printf("@@ 4 host: more than %d instances alive\n", MAX - 1);  /* never wrap */
             } else {
-                instances[++n_instances] = made;
+                instances[++n_instances % MAX] = made;    /* ids look up modulo MAX too */
                 printf("@@ 0 int %d\n", n_instances);
             }
             free(name), free(guid), free(uri);
@@ -256,14 +258,19 @@ int main(int argc, char **argv) {
                     "fmi2DeSerializeFMUstate"))(c, bytes, n, &state);
                 free(bytes);
             }
-            states[++n_states] = state;
-            printf("@@ %d int %d\n", status, n_states);
+            if (states[(n_states + 1) % MAX] != NULL) {
+                printf("@@ 4 host: more than %d states alive\n", MAX - 1);     /* never wrap */
+            } else {
+                states[++n_states % MAX] = state;           /* ids look up modulo MAX too */
+                printf("@@ %d int %d\n", status, n_states);
+            }
         } else if (strcmp(op, "set_state") == 0) {
             answer_status(((fmi2Status (*)(fmi2Component, fmi2FMUstate))fn("fmi2SetFMUstate"))(
                 c, states[atoi(words[2]) % MAX]));
         } else if (strcmp(op, "free_state") == 0) {
             answer_status(((fmi2Status (*)(fmi2Component, fmi2FMUstate *))fn("fmi2FreeFMUstate"))(
                 c, &states[atoi(words[2]) % MAX]));
+            states[atoi(words[2]) % MAX] = NULL;            /* the slot is free again */
         } else if (strcmp(op, "serialize") == 0) {
             fmi2FMUstate state = states[atoi(words[2]) % MAX];
             size_t size = 0;

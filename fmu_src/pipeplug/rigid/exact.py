@@ -29,6 +29,7 @@ __all__ = ["RigidExact"]
 _MAX_EVENTS_PER_STEP = 100_000
 _EVENT_SNAP = 1e-13          # relative: an event this close after a step end is taken in it
 _SNAP_LIMIT = 1e-9           # relative: largest believable round-off of a segment crossing
+_SNAP_FLOOR = 1e-12          # of the pipe length: round-off of positions near a segment end
 _STATE_KEYS = ("time", "t0", "U1", "V1", "U2", "V2", "W_in", "W_outer", "W_inner", "Q", "kick",
                "horizon")
 
@@ -121,7 +122,8 @@ class RigidExact(ModelBase):
         # crossing sooner after the piece start than time can resolve is taken at its start).
         dt = 4.0 * math.ulp(max(self._t_event, p.t0 + self._horizon))   # the search's own
         a = abs(p.pipe.acceleration_at(U1))
-        allowed = _SNAP_LIMIT * (abs(end - p.U1) + abs(end)) + dt * (abs(p.V1) + a * dt)
+        allowed = (_SNAP_LIMIT * (abs(end - p.U1) + abs(end)) + dt * (abs(p.V1) + a * dt)
+                   + _SNAP_FLOOR * p.outer.L1)     # segments are model II's: L1 sets the scale
         if not abs(U1 - end) <= allowed:
             raise RuntimeError(f"segment event at U1 = {U1!r} m, {end!r} m expected")
         if p.s2 == 0:                     # the plug moves with the pipe: same shift
