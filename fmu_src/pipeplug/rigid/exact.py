@@ -56,6 +56,7 @@ class RigidExact(ModelBase):
         # At rest, under no force yet (Q = nan): the first advance starts the first real piece.
         self._W0, self._kick, self._horizon = (0.0, 0.0, 0.0), 0, 0.0
         self._piece = AtRest(0.0, math.nan, (0.0, 0.0, 0.0, 0.0), 0.0, 0.0)
+        self._modes: list[tuple[int, int]] = []      # every piece's (s1, s2), repeats merged
         self._t_event = self._t_snap = self._searched = math.inf
         self._labels = ()
 
@@ -138,6 +139,9 @@ class RigidExact(ModelBase):
         self._kick = kick
         self._piece = self._make_piece(t0, origin, 0.0 if math.isnan(q) else q, kick)
         self._piece.Q = q
+        mode = (self._piece.s1, self._piece.s2)
+        if not self._modes or self._modes[-1] != mode:
+            self._modes.append(mode)
         self._search(horizon)
 
     def _search(self, horizon: float) -> None:
@@ -267,15 +271,23 @@ class RigidExact(ModelBase):
         _, V1, _, V2, *_ = self._values_at(self.time)
         return 0.5 * (self.M1 * V1 * V1 + self.M2 * V2 * V2), 0.0, 0.0
 
+    def modes(self) -> tuple[tuple[int, int], ...]:
+        """Every piece's contact modes (pipe_mode, plug_mode) in order, repeats merged."""
+        return tuple(self._modes)
+
     def get_state(self) -> dict:
-        """The whole state: the current piece's origin, its force and search horizon."""
+        """The whole state: the current piece's origin, its force and search horizon, and the
+        modes gone through."""
         p = self._piece
-        return dict(zip(_STATE_KEYS, (self.time, p.t0, p.U1, p.V1, p.U2, p.V2, *self._W0,
-                                      p.Q, self._kick, self._horizon)))
+        state = dict(zip(_STATE_KEYS, (self.time, p.t0, p.U1, p.V1, p.U2, p.V2, *self._W0,
+                                       p.Q, self._kick, self._horizon)))
+        state["modes"] = np.array(self._modes, dtype=np.int64).reshape(-1, 2)
+        return state
 
     def set_state(self, state: dict) -> None:
         """Restore a state from :meth:`get_state`; the piece is rebuilt deterministically."""
         s = {k: state[k] for k in _STATE_KEYS}
+        self._modes = [tuple(map(int, row)) for row in np.asarray(state["modes"]).reshape(-1, 2)]
         self._start_piece(float(s["t0"]), (float(s["U1"]), float(s["V1"]), float(s["U2"]),
                                            float(s["V2"])),
                           (s["W_in"], s["W_outer"], s["W_inner"]), float(s["Q"]), int(s["kick"]),
