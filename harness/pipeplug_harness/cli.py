@@ -26,6 +26,9 @@ SUBCOMMANDS = {
                   "energy, drift"),
     "scene": ("pipeplug_harness.scenes.command", "harness",
               "run a scene file (TOML: pipe, plug, soil, blows, model, output) through the FMU"),
+    "fuzz": ("pipeplug_harness.fuzz.command", "harness",
+             "differential fuzzing of the rigid models: random cases through the core, the "
+             "reference, the FMU and the fd scheme; invariants, summary, replayable failures"),
 }
 
 
