@@ -189,9 +189,7 @@ class System:
         return self.k * (0.5 * inside * inside + self.L1 * np.maximum(u - self.L1, 0.0))
 
 
-def coulomb_modes(
-    system: System, q: float, u1: float, pipe_sign: int, rel_sign: int, breakaway: bool = False
-):
+def coulomb_modes(system: System, q: float, u1: float, pipe_sign: int, rel_sign: int):
     """Joint two-contact Coulomb problem: the contact modes that start at this instant.
 
     Parameters
@@ -204,8 +202,6 @@ def coulomb_modes(
     pipe_sign, rel_sign : int
         Sign of U1' and of U1' - U2' (0: that contact has zero relative velocity and its mode is free).
         A nonzero sign fixes that contact as sliding.
-    breakaway : bool
-        The plug's required static force has just reached its limit (drift rule applies).
 
     Returns
     -------
@@ -238,8 +234,12 @@ def coulomb_modes(
             ok = pipe_sign != 0 or p * a > 0.0
             if ok and s.plug:
                 ok = abs(f2) <= c2 + slack2
-                if ok and f2 >= c2 - slack2 and (breakaway or s.dc1(u1, p) > 0.0):
-                    ok = False  # at +c2 and the required force grows: slip now
+                # At +c2 and the required force grows: slip now. Only inside the penetrated
+                # region: at a kink it stops growing (a breakaway found exactly there, as a
+                # load at the limit without outer friction makes it, leaves the plug stuck,
+                # whichever of the two simultaneous events the integrator reports first).
+                if ok and f2 >= c2 - slack2 and s.dc1(u1, p) > 0.0:
+                    ok = False
                     forced.add(p)
         else:  # both slide
             f1, f2 = -p * c1, -r * c2
@@ -554,9 +554,7 @@ def simulate(
             y[3] = y[1] if s.plug else 0.0
         pipe_sign = int(np.sign(y[1]))
         rel_sign = int(np.sign(y[1] - y[3])) if s.plug else 0
-        p, r, _, _ = coulomb_modes(
-            s, q, float(y[0]), pipe_sign, rel_sign, breakaway=fired == "plug breaks away forward"
-        )
+        p, r, _, _ = coulomb_modes(s, q, float(y[0]), pipe_sign, rel_sign)
         events.append((t, f"{cause}: pipe {p:+d}, plug {r:+d}"))
 
     prev_q = 0.0

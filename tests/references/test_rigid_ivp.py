@@ -349,6 +349,24 @@ def test_model_II_stop_exactly_at_L1_is_not_a_loop():
     assert out["F_outer"][2:] == pytest.approx([-q, 0.0], abs=1e-9 * q)
 
 
+def test_model_II_plug_at_its_limit_leaving_the_soil_stays_stuck():
+    """Pulled back by Q = -F2 (M1 + M2) / M2 with the plug stuck, the plug's required force grows
+    to F2 exactly as U1 reaches 0 and stays F2 beyond (no outer friction there): the breakaway and
+    the kink are one instant. Stuck wins at the limit (the force no longer grows), whichever of the
+    two events the integrator reports first; the plug had been sent sliding when the breakaway came
+    first (same motion, zero relative acceleration, plug_mode -1)."""
+    params = dict(L2=0.26061723822995275, rho2=337.25873060020905, tau1=111591.93488637413,
+                  tau2=116033.78845033054)
+    segs = [(2.8771816926682357e-05, 23654.378554371448), (5.536783507148687e-05, -112154.91385175048),
+            (0.00013270494148271583, -26643.80661575667)]
+    s = System(params, True)
+    assert segs[1][1] == pytest.approx(-s.c2 * (s.M1 + s.M2) / s.M2, rel=1e-12)
+    t = np.linspace(5.0e-5, 8.4e-5, 8)                 # U1 < 0, after the breakaway instant
+    out = simulate(params, segs, t, True)
+    assert np.all(out["u_pipe"] < 0.0) and np.all(out["plug_mode"] == 0)
+    assert np.all(out["v_pipe"] == out["v_plug"])
+    assert out["F_inner"] == pytest.approx(s.c2, rel=1e-12)
+
 # ---------------------------------------------------------------- 3. invariants
 @pytest.fixture(scope="module")
 def random_runs():
