@@ -51,10 +51,11 @@ CHECKS: dict[str, Check] = {
                           "under Q = 0 changes an output"),
     "fmu": Check(1e-12, "FMU vs the core on the host's own points: largest |difference| / "
                         "scale over all outputs"),
-    "fd bound": Check(FD_C, "fd vs exact: largest |error| / (dt x scale of the rate) over "
-                            "dt, dt/2, dt/4 (rates: velocity, acceleration, power)"),
+    "fd bound": Check(FD_C, "fd vs exact: largest |error| / (dt x R x G) over dt, dt/2, "
+                            "dt/4 (R: scale of what drives the output, G: growth factor; see "
+                            "fdcheck)"),
     "fd order": Check(0.1, "|observed order - 1|, fd vs exact over dt, dt/2, dt/4, on "
-                           "resolved cases without grazing"),
+                           "resolved cases without grazing and with G <= 10"),
 }
 
 #: outputs compared with the reference at every point

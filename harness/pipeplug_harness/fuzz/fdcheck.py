@@ -2,39 +2,47 @@
 
 Error measure. The fd runs on a grid of its own steps (one internal step per communication
 step, ``dt`` = the largest step) and the exact solver on the same points. The error of an
-output is its largest |fd - exact| over the run, measured in units of ``dt`` times the scale
-(largest magnitude over the run) of its rate: velocities against the largest acceleration of
-pipe or plug, displacements against the largest velocity, works against the largest power
-(load, outer or inner friction). Those rates make ``C`` in ``error <= C dt scale`` a plain
-number that holds for every case: a scheme of order one is off by a fraction of a step's
-change of each quantity (its step velocities are those of the step's middle, for one), while
-the scale of a quantity itself would tie ``C`` to each case's time scales, which here span 10
-us to 0.2 s. ``E`` is the largest such error over the outputs and ``K = E / dt``.
+output is its largest |fd - exact| over the run, in units of ``dt`` times the scale of what
+drives it, ``R``, and of the growth factor ``G`` of the run (below). For velocities ``R`` is
+the largest acceleration of pipe or plug; for displacements the largest velocity plus the
+largest acceleration times the run's duration T (a velocity error, first order, is carried
+along and integrated over the run: a pipe pulled out of the soil in model II flies on with
+it); for works the largest power plus the largest force times that accumulated velocity.
+These scales make ``C`` in ``error <= C dt R G`` a plain number for every case: a scheme of
+order one is off by a share of a step's change of each quantity (its step velocities are the
+step's mean velocities, for one), while the quantity's own scale would tie ``C`` to each
+case's time scales, which here span 10 us to 0.2 s. ``E`` is the largest such error over the
+outputs, ``K = E / dt``.
+
+Growth. In model II a pipe sliding backward inside the contact region obeys
+``M U'' = Q + P1 tau1 U``: unstable, an error grows like ``exp(t sqrt(P1 tau1 / M))``. ``G``
+is that factor over all such slides of the exact run (1 if there are none); it is a property
+of the problem, not of the scheme.
 
 Grids. An episode is the time between two consecutive events of the reference (load edges
-included); each gets equal steps of ``min(T / N0, its length / RESOLVE) / 2**level``, so the
-fd resolves every episode with at least ``RESOLVE`` steps at the coarsest level; levels 0, 1,
-2 halve every step. Load edges are grid points. Every other event of the reference (stops,
-sticks, breakaways, reaching 0 or L1) sits in the middle of a step at every level: the O(dt)
-error an event leaves depends on where in its step it falls, and that phase would otherwise
-change from level to level and scatter the observed order. A case whose coarsest grid would
-need more than ``BUDGET`` steps (thousands of events) is not resolved and is not run.
+included); each gets equal steps of ``min(T / N0, 1 / (RESOLVE w), its length / RESOLVE) /
+2**level`` (``w = sqrt(P1 tau1 / M1)``, the rate of the harmonic and exponential pieces of
+model II), so the fd resolves every episode and every harmonic piece with at least
+``RESOLVE`` steps at the coarsest level; levels 0, 1, 2 halve every step. Load edges are grid
+points. Every other event of the reference (stops, sticks, breakaways, reaching 0 or L1) sits
+in the middle of a step at every level: the O(dt) error an event leaves depends on where in
+its step it falls, and that phase would otherwise change from level to level and scatter
+the observed order. A case whose coarsest grid would need more than ``BUDGET`` steps
+(thousands of events) is not resolved and is not run.
 
 Grazing. A case is grazing when the sequence of contact modes of the reference changes when
 every load is scaled by ``1 - GRAZE`` or ``1 + GRAZE``: then the solution passes within a
-relative ``GRAZE`` (about the fd's relative error at the coarsest level) of an event it does
-not take, or takes one it barely reaches (a stop with vanishing acceleration, a static force
-at its limit, a load exactly at a friction limit). The fd may then take another sequence of
-events, and its error is not first order in dt there.
+relative ``GRAZE`` of an event it does not take, or takes one it barely reaches (a stop with
+vanishing acceleration, a static force at its limit, a load exactly at a friction limit).
+The fd may then take another sequence of events, and its error is not first order in dt.
 
 Checks. ``fd bound``: ``K <= C`` on every resolved case. ``fd order``: the least-squares
-slope of log E over log dt, levels 0-2, within 1 +- 0.1 on resolved cases without grazing
-whose error is not negligible (``K >= K_FLOOR``: a case whose first-order error term is
-smaller than that, e.g. a short blow followed by a slow slide, shows the second-order terms
-at these steps instead).
+slope of log E over log dt, levels 0-2, within 1 +- 0.1 on resolved cases without grazing,
+with ``G <= G_MAX`` (an error amplified more than that leaves the fd at these steps on
+another sequence of events) and a nonzero error (a case where nothing moves is exact).
 
 Constant. ``C`` (:data:`~pipeplug_harness.fuzz.checks.FD_C`) was fitted once with
-:func:`fit_constant` (``pipeplug fuzz --fit-fd-constant``): see its docstring.
+``pipeplug fuzz --fit-fd-constant``: see :func:`~pipeplug_harness.fuzz.command.fit_fd_constant`.
 """
 from __future__ import annotations
 
@@ -48,14 +56,14 @@ from .checks import CONTINUOUS, Body
 from .runners import COLUMN, run_grid, run_reference
 
 __all__ = ["FdResult", "fd_measure", "fd_grids", "grazing", "mode_sequence", "N0",
-           "RESOLVE", "BUDGET", "GRAZE", "K_FLOOR"]
+           "RESOLVE", "BUDGET", "GRAZE", "G_MAX"]
 
-N0 = 100          #: steps over the whole run at the coarsest level (at most)
-RESOLVE = 8       #: steps per episode at least, at the coarsest level
+N0 = 200          #: steps over the whole run at the coarsest level (at least)
+RESOLVE = 16      #: steps per episode and per 1/w at least, at the coarsest level
 LEVELS = 3        #: dt, dt/2, dt/4
 BUDGET = 4000     #: largest number of steps at the coarsest level
 GRAZE = 1e-2      #: relative load perturbation that must not change the event sequence
-K_FLOOR = 0.02    #: smallest K whose order is measured
+G_MAX = 10.0      #: largest growth factor whose order is measured
 
 _MODES = re.compile(r"pipe ([+-]\d+), plug ([+-]\d+)$")
 _FAMILY = {"v_pipe": 1, "v_plug": 1, "u_pipe": 0, "u_plug": 0}      # else 2 (works)
@@ -69,6 +77,7 @@ class FdResult(NamedTuple):
     K: float              #: largest E / dt over the levels
     order: float          #: observed order (nan if not measured)
     steps: int            #: fd steps over all levels
+    growth: float         #: error growth factor of the unstable pieces (1: none)
 
 
 def fd_measure(case: Case, exact, fd, events) -> FdResult:
@@ -76,10 +85,11 @@ def fd_measure(case: Case, exact, fd, events) -> FdResult:
     event list of the case)."""
     grids = fd_grids(case, events)
     if grids is None:
-        return FdResult(False, False, float("nan"), float("nan"), 0)
+        return FdResult(False, False, float("nan"), float("nan"), 0, float("nan"))
     body = Body.of(case.params, case.growth)
     finest, _ = run_grid(exact, case, grids[-1])
-    rates = _rates(finest, loads_on(case.segments, grids[-1][:-1]), body)
+    rates, growth = _rates(finest, grids[-1], loads_on(case.segments, grids[-1][:-1]), body,
+                           case.stop)
     errors, steps = [], []
     for grid in grids:
         dt = float(np.max(np.diff(grid)))
@@ -87,15 +97,15 @@ def fd_measure(case: Case, exact, fd, events) -> FdResult:
         approx, _ = run_grid(fd, case, grid, params={**case.params, "dt": dt},
                              options={"solver": "fd", "contact_growth": case.growth})
         errors.append(max(_error(approx[:, COLUMN[n]], ex[:, COLUMN[n]],
-                                 rates[_FAMILY.get(n, 2)]) for n in CONTINUOUS))
+                                 rates[_FAMILY.get(n, 2)] * growth) for n in CONTINUOUS))
         steps.append(dt)
     errors, steps = np.array(errors), np.array(steps)
     K = float(np.max(errors / steps))
     is_grazing = grazing(case, events)
     order = float("nan")
-    if not is_grazing and np.all(errors > 0.0) and errors[0] / steps[0] >= K_FLOOR:
+    if not is_grazing and growth <= G_MAX and np.all(errors > 0.0):
         order = float(np.polyfit(np.log(steps), np.log(errors), 1)[0])
-    return FdResult(True, is_grazing, K, order, int(sum(len(g) - 1 for g in grids)))
+    return FdResult(True, is_grazing, K, order, int(sum(len(g) - 1 for g in grids)), growth)
 
 
 def _error(a, b, rate: float) -> float:
@@ -103,15 +113,30 @@ def _error(a, b, rate: float) -> float:
     return 0.0 if d == 0.0 else (d / rate if rate > 0.0 else np.inf)
 
 
-def _rates(rows, loads, body: Body) -> tuple[float, float, float]:
-    """Scales of the rates: (largest velocity, acceleration, power) over the run."""
+def _rates(rows, grid, loads, body: Body, stop: float) -> tuple[tuple, float]:
+    """The rate scales (displacements, velocities, works) of an exact run on ``grid`` and
+    its growth factor (see the module docstring)."""
     c = COLUMN
     v1, v2 = rows[:, c["v_pipe"]], rows[:, c["v_plug"]]
     f1, f2 = rows[:, c["F_outer"]], rows[:, c["F_inner"]]
     a1 = (loads + f1 + f2) / body.M1
     a2 = -f2 / body.M2 if body.plug else 0.0 * f2
     peak = lambda *xs: max(float(np.max(np.abs(x), initial=0.0)) for x in xs)  # noqa: E731
-    return peak(v1, v2), peak(a1, a2), peak(loads * v1, f1 * v1, f2 * (v1 - v2))
+    V, A = peak(v1, v2), peak(a1, a2)
+    P, F = peak(loads * v1, f1 * v1, f2 * (v1 - v2)), peak(loads, f1, f2)
+    return (V + A * stop, A, P + F * A * stop), _growth(rows, grid, body)
+
+
+def _growth(rows, grid, body: Body) -> float:
+    """exp of the integral of sqrt(P1 tau1 / M) over the backward slides inside the contact
+    region of model II (1 elsewhere): how much those unstable pieces amplify an error."""
+    if not (body.growth and body.k1 > 0.0):
+        return 1.0
+    c = COLUMN
+    u, pipe, plug = rows[:, c["u_pipe"]], rows[:, c["pipe_mode"]], rows[:, c["plug_mode"]]
+    mass = np.where((plug == 0) & body.plug, body.M1 + body.M2, body.M1)
+    back = (pipe == -1) & (u > 0.0) & (u < body.L1)
+    return float(np.exp(np.sum(np.diff(grid)[back] * np.sqrt(body.k1 / mass[back]))))
 
 
 def fd_grids(case: Case, events) -> list[np.ndarray] | None:
@@ -121,9 +146,12 @@ def fd_grids(case: Case, events) -> list[np.ndarray] | None:
     switches = {t for t, text in events if 0.0 < t < stop} - knots
     marks = sorted({0.0} | knots | switches)
     gaps = np.diff(marks)
+    body = Body.of(case.params, case.growth)
+    period = 1.0 / np.sqrt(body.k1 / body.M1) if body.growth and body.k1 > 0.0 else np.inf
+    h0 = min(stop / N0, period / RESOLVE)
     grids = []
     for level in range(LEVELS):
-        steps = np.minimum(stop / N0, gaps / RESOLVE) / 2 ** level   # per episode
+        steps = np.minimum(h0, gaps / RESOLVE) / 2 ** level   # per episode
         points, x = [0.0], 0.0
         for i, b in enumerate(marks[1:]):
             if b in switches:               # one step centred on the event

@@ -37,7 +37,7 @@ class Summary:
         self.case_seconds += result.seconds
         if result.fd is not None:
             self.fd_results.append(result.fd)
-            resolved, grazing, _, order, _ = result.fd
+            resolved, grazing, _, order, *_ = result.fd
             self.fd.update(resolved=resolved, grazing=resolved and grazing,
                            order=order == order)
         failed = set(result.failed)
