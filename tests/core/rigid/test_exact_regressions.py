@@ -169,3 +169,17 @@ def test_stick_conserves_momentum_so_energy_balances_with_a_heavy_plug():
                 (1.3339018164587106e-05, -105012.91928017858),
                 (3.6256806706069485e-05, 56051.802526441345)]
     _check_grid_independent_and_balanced(params, segments, 0.16067348642753898)
+
+
+def test_friction_work_never_decreases_after_a_breakaway_cut_short():
+    """A plug broke away (zero relative velocity and acceleration) 1.4e-10 s before the pipe
+    stopped; the relative displacement of that piece, a difference of two displacements of
+    1e-18 m, came out as -1e-34 m: W_friction_inner = -1.03e-33 J ever after."""
+    params = dict(L1=0.6832118171949602, L2=0.015985771564293844, rho2=3464.2334867902814,
+                  tau1=352142.93494809733, tau2=3038.715656773539)
+    segments = [(0.02609634245246205, 194.45847785253008),
+                (0.018547268220555264, -57432.4102403413)]
+    for grid in _grids(segments, 0.03):
+        out = _run(params, segments, grid)
+        for col in (7, 8, 9):                 # W_friction, its outer and inner parts
+            assert np.all(np.diff(np.r_[0.0, out[:, col]]) >= 0.0)
