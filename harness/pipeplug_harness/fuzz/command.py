@@ -42,9 +42,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="run every N-th case through the FMU (%(default)s; 0: none)")
     parser.add_argument("--fd-every", type=int, default=100,
                         help="run every N-th case through the fd check (%(default)s; 0: none)")
-    parser.add_argument("--paths", default=",".join(CORE_PATHS),
+    parser.add_argument("--paths", default=None,
                         help=f"core paths, comma-separated, among {', '.join(CORE_PATHS)} "
-                             "(default: all)")
+                             "(default: all; with --replay: those of the file)")
     parser.add_argument("--fmu", default=None,
                         help=f"the FMU (file or extracted folder; default {DEFAULT_FMU}, built "
                              "there if missing)")
@@ -57,14 +57,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def main(args: argparse.Namespace) -> int:
-    paths = tuple(p for p in args.paths.split(",") if p)
+    paths = tuple(p for p in (args.paths or ",".join(CORE_PATHS)).split(",") if p)
     unknown = [p for p in paths if p not in CORE_PATHS]
     if unknown or not paths:
         print(f"pipeplug fuzz: unknown core path(s) {unknown}; allowed: {', '.join(CORE_PATHS)}",
               file=sys.stderr)
         return 2
     if args.replay:
-        return replay(args.replay, Setup(paths, fmu=_fmu(args)), explicit_paths=args.paths)
+        return replay(args.replay, Setup(paths), paths_given=args.paths is not None,
+                      fmu=lambda: _fmu(args))
     if args.fit_fd_constant:
         return fit_fd_constant(args.seed, args.start, args.cases, Setup(paths), args.jobs)
     plan = Plan(args.reference_every, 0 if args.no_fmu else args.fmu_every, args.fd_every)
@@ -96,12 +97,20 @@ def _fmu(args) -> str | None:
     return str(DEFAULT_FMU)
 
 
-def replay(file: str, setup: Setup, explicit_paths: str | None = None) -> int:
-    """Run the case saved in ``file`` (on the paths it names, unless given) and print every
-    check's value; 1 if any fails."""
+def replay(file: str, setup: Setup | None = None, paths_given: bool = False, fmu=None) -> int:
+    """Run the case saved in ``file`` on the paths it names (unless ``paths_given``: those
+    of ``setup``) and print every check's value; 1 if any fails. ``fmu()`` gives the FMU
+    when the case runs through it."""
     case, data = load_failure(file)
-    if explicit_paths is None and data.get("paths"):
-        setup = Setup(tuple(data["paths"]), setup.fd_path, setup.fmu)
+    setup = setup or Setup()
+    paths = setup.paths if paths_given or not data.get("paths") else tuple(data["paths"])
+    unknown = [p for p in paths if p not in CORE_PATHS]
+    if unknown:
+        print(f"pipeplug fuzz: the file names core path(s) {unknown} not in this build; "
+              f"allowed: {', '.join(CORE_PATHS)} (choose with --paths)", file=sys.stderr)
+        return 2
+    needs_fmu = "fmu" in case.checks and fmu is not None
+    setup = Setup(paths, setup.fd_path, fmu() if needs_fmu else setup.fmu)
     result = run_case(case, setup)
     print(f"case {case.seed}:{case.index}, model {case.model}, checks {', '.join(case.checks)}")
     print(f"params {case.params}\nsegments {list(case.segments)}\nstop {case.stop!r} s")
