@@ -386,6 +386,24 @@ def test_snap_of_a_nearly_simultaneous_stop_is_within_the_claimed_accuracy(monke
         scale = max(np.max(np.abs(separate[n])) for n in (name, name.replace("plug", "pipe")))
         assert np.max(np.abs(default[name] - separate[name])) <= 1e-14 * scale
 
+def test_heavy_plug_sticking_to_a_braking_pipe_keeps_the_momentum():
+    """Model II, a 16 us blow; the pipe brakes at 1850 m/s^2 onto a plug of 63 pipe masses and they
+    stick 1.2 us later. scipy locates the stick to ~1e-15 s only: taking the pipe's velocity there
+    lost M2 x 1880 m/s^2 x dt of momentum, 6.5e-10 of it (the fuzz's case 13:22939, run to its
+    stop time, which sets the integrator's steps). Across the stick (+-0.1 ns, where the soil's
+    impulse is ~1e-14 N s) the momentum must not jump."""
+    params = dict(L2=0.3621825897313237, rho2=241896.36984364904, tau1=28220.124472438492,
+                  tau2=124542.78888401498)
+    s = System(params, True)
+    segs = [(1.6125348734686862e-05, 10852.494712989806)]
+    t_stick = next(t for t, text in simulate(params, segs, [1e-4], True)["events"]
+                   if text.startswith("plug sticks"))
+    out = simulate(params, segs, [t_stick - 1e-10, t_stick + 1e-10, 0.12158669622073476], True)
+    assert list(out["plug_mode"][:2]) == [1, 0]
+    momentum = s.M1 * out["v_pipe"] + s.M2 * out["v_plug"]
+    assert abs(momentum[1] - momentum[0]) <= 1e-12 * momentum[0]
+
+
 # ---------------------------------------------------------------- 3. invariants
 @pytest.fixture(scope="module")
 def random_runs():
