@@ -45,7 +45,7 @@ class Summary:
             row = self.rows.setdefault(key, [0, 0, 0.0, None])
             row[0] += 1
             row[1] += key in failed
-            if not value <= row[2]:
+            if row[2] == row[2] and not value <= row[2]:          # NaN is the worst
                 row[2], row[3] = value, (result.seed, result.index)
         if failed:
             self.failed_cases.append((result.seed, result.index))

@@ -49,8 +49,11 @@ class CaseResult:
     seconds: float = 0.0
 
     def put(self, check: str, subject: str, value: float) -> None:
-        key = (check, subject)
-        self.values[key] = max(self.values.get(key, 0.0), float(value))
+        """Record a value; the worst one stays (NaN is the worst of all)."""
+        key, value = (check, subject), float(value)
+        old = self.values.get(key)
+        if old is None or (old == old and not value <= old):
+            self.values[key] = value
 
     @property
     def failed(self) -> list[tuple[str, str]]:

@@ -7,6 +7,7 @@ it can break.
 from __future__ import annotations
 
 import json
+import math
 
 import pytest
 
@@ -71,6 +72,13 @@ def test_a_wrong_model_fails_the_reference_check_only(monkeypatch):
 def test_each_invariant_catches_its_defect(monkeypatch, check, change):
     summary = _run(monkeypatch, skewed(change), plan=Plan(0, 0, 0))
     assert _failed(summary, check) >= 3
+
+
+def test_a_nan_output_fails(monkeypatch):
+    summary = _run(monkeypatch, skewed(lambda out, m: out._replace(W_input=math.nan)),
+                   cases=5, plan=Plan(0, 0, 0))
+    assert summary.failures == 5
+    assert not math.isfinite(summary.rows[("energy", "defect")][2])
 
 
 def test_a_claimed_rest_that_moves_is_caught(monkeypatch):
