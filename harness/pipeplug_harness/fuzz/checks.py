@@ -25,8 +25,11 @@ class Check(NamedTuple):
     meaning: str
 
 
-#: FD_C: the constant of the fd bound (see :mod:`.fdcheck` for how it was fitted)
-FD_C = 2.0
+#: The constant C of the fd bound, fitted once: ``pipeplug fuzz --fit-fd-constant`` on
+#: 3,000 cases each of seeds 22, 23 and 24 (all resolved) gave K = E / dt up to 0.340,
+#: median 0.018; C = 1.5 x 0.340 = 0.51, rounded up. (Seed 24: observed order of the works'
+#: error 0.977-1.004 for 98 % of the 2,372 cases measured, none outside 0.9-1.1.)
+FD_C = 0.6
 
 #: check -> (tolerance, what its value is). A case fails when value > tolerance.
 CHECKS: dict[str, Check] = {
@@ -54,8 +57,8 @@ CHECKS: dict[str, Check] = {
     "fd bound": Check(FD_C, "fd vs exact: largest |error| / (dt x R x G) over dt, dt/2, "
                             "dt/4 (R: scale of what drives the output, G: growth factor; see "
                             "fdcheck)"),
-    "fd order": Check(0.1, "|observed order - 1|, fd vs exact over dt, dt/2, dt/4, on "
-                           "resolved cases without grazing and with G <= 10"),
+    "fd order": Check(0.1, "|observed order - 1| of the works' error, fd vs exact over dt, "
+                           "dt/2, dt/4, on resolved cases without grazing and with G <= 10"),
 }
 
 #: outputs compared with the reference at every point

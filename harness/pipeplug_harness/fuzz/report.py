@@ -37,9 +37,9 @@ class Summary:
         self.case_seconds += result.seconds
         if result.fd is not None:
             self.fd_results.append(result.fd)
-            resolved, grazing, _, order, *_ = result.fd
+            resolved, grazing, _, order, _, _, levels = result.fd
             self.fd.update(resolved=resolved, grazing=resolved and grazing,
-                           order=order == order)
+                           order=order == order, refined=levels > 3)
         failed = set(result.failed)
         for key, value in result.values.items():
             row = self.rows.setdefault(key, [0, 0, 0.0, None])
@@ -68,7 +68,7 @@ class Summary:
             f"cases: {self.cases} (model I {self.models['I']}, model II {self.models['II']}); "
             f"against the reference: {fam['reference']}; through the FMU: {fam['fmu']}; "
             f"fd: {fam['fd']} (resolved {self.fd['resolved']}, grazing {self.fd['grazing']}, "
-            f"order measured {self.fd['order']})",
+            f"order measured {self.fd['order']}, refined {self.fd['refined']})",
             f"failing cases: {self.failures}",
         ]
         if seconds is not None:
