@@ -22,15 +22,15 @@ of the problem, not of the scheme.
 Grids. An episode is the time between two consecutive events of the reference (load edges
 included); each gets equal steps of ``min(T / N0, 1 / (W_STEPS w), its length / RESOLVE) /
 2**level`` (``w = sqrt(P1 tau1 / M1)``, the rate of the harmonic and exponential pieces of
-model II), so the fd resolves every episode with ``RESOLVE`` steps and 1/w with ``W_STEPS``
-at the coarsest level; levels 0, 1, 2 halve every step. (With 16 steps per 1/w, 19 of 2,393
-model II cases showed orders of 0.74-1.26: the error's second-order part was still 10-20 %
-of it; with 64, none of those 19.) Load edges are grid
-points. Every other event of the reference (stops, sticks, breakaways, reaching 0 or L1) sits
-in the middle of a step at every level: the O(dt) error an event leaves depends on where in
-its step it falls, and that phase would otherwise change from level to level and scatter
-the observed order. A case whose coarsest grid would need more than ``BUDGET`` steps
-(thousands of events) is not resolved and is not run.
+model II), so the fd resolves every episode with ``RESOLVE`` steps and 1/w with ``W_STEPS`` at
+the coarsest level; levels 0, 1, 2 halve every step. (With 16 steps per 1/w, 19 of the 2,393
+cases measured in one fit run, all model II, showed orders of 0.74-1.26: the error's second-
+order part was still 10-20 % of it.) Load edges are grid points. Every other event of the
+reference (stops, sticks, breakaways, reaching 0 or L1) sits in the middle of a step at every
+level: the O(dt) error an event leaves depends on where in its step it falls, and that phase
+would otherwise change from level to level and scatter the observed order. A case whose
+coarsest grid would need more than ``BUDGET`` steps (thousands of events) is not resolved and
+is not run.
 
 Grazing. A case is grazing when the sequence of contact modes of the reference changes when
 every load is scaled by ``1 - GRAZE`` or ``1 + GRAZE``: then the solution passes within a
@@ -46,8 +46,9 @@ another sequence of events) and a nonzero error (a case where nothing moves is e
 works integrate the scheme's velocities against the forces over the run: their error is the
 scheme's global error. The velocities' own error adds the local offset of a step's mean
 velocity from the end velocity, -a dt / 2, whose peak moves between the kinks of the
-acceleration from one level to the next: fitted on all outputs, 28 of about 7,000 model II
-cases of three fit runs showed orders of 0.74-1.56, on the works all of them 0.98-1.01. When
+acceleration from one level to the next: fitted on all outputs, 9 of the 4,725 cases
+measured in two fit runs (seeds 22, 23; all model II) showed orders of 0.88-1.56, on the works
+0.98-1.00 (seed 24, on the works: 0.977-1.004 for 98 % of 2,372, none outside 0.9-1.1). When
 the slope is outside 0.9-1.1 all the same, the case is refined by up to ``EXTRA_LEVELS`` more
 halvings and the slope of the last three levels counts (the first-order term may not yet
 dominate at the coarsest steps).
