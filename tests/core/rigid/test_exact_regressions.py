@@ -183,3 +183,41 @@ def test_friction_work_never_decreases_after_a_breakaway_cut_short():
         out = _run(params, segments, grid)
         for col in (7, 8, 9):                 # W_friction, its outer and inner parts
             assert np.all(np.diff(np.r_[0.0, out[:, col]]) >= 0.0)
+
+
+def test_event_times_do_not_depend_on_the_grid():
+    """The plug sticks to a pipe braking at 5000 m/s^2, then slides on alone. The stick time
+    came from a root search bracketed by how far ahead the step asked, so it was one ulp
+    apart on some grids, and the plug's velocity with it (1.6e-12 of its value here). The
+    root is the first float past the crossing: every grid gives the same outputs, bit for
+    bit."""
+    params = dict(tau1=137145.47348779085, tau2=47.11339360210337, rho2=793.8562601222261)
+    segments = [(0.0001314688401900647, 32755.356887043476),
+                (0.0002531184871952582, -22318.914628429426),
+                (0.008676288609590525, 32744.996110657652),
+                (0.027392148234137534, -32755.356887043476),
+                (0.05414672411470262, 16372.498055328826),
+                (0.00011639023613625012, 2682.411687114385)]
+    finals = np.array([_run(params, segments, grid)[-1] for grid in _grids(segments, 0.17)])
+    assert finals[0][1] != 0.0 and finals[0][12] != 0                 # the plug slides
+    assert np.all(finals == finals[0])
+
+
+def test_harmonic_motion_of_a_vanishing_friction_limit_is_uniform():
+    """At tau1 = 2.4e-295 Pa the harmonic basis divided a squared sine that had underflowed
+    by k: the pipe's position was garbage near a piece start, and a segment event was placed
+    8.6e-29 m past U1 = 0 (raised). Found with the root walk to the first float past."""
+    from pipeplug.rigid.motion import Motion
+    for k in (1e-296, -1e-296):
+        body = Motion(1e-256, 7.7e-257, -0.186, k)
+        for t in (1e-130, 2.1e-14, 1e-3):
+            d, v = body.travel(t)
+            assert d == pytest.approx(7.7e-257 * t - 0.093 * t * t, rel=1e-15)
+            assert v == pytest.approx(7.7e-257 - 0.186 * t, rel=1e-15)
+        dense = body.travel(np.array([1e-130, 2.1e-14, 1e-3, 0.0]))[0]
+        assert np.all(np.isfinite(dense)) and dense[-1] == 0.0
+    model = build_model({"tau1": 2.418727066052555e-295, "tau2": 0.0, "L2": 0.0},
+                        {"contact_growth": True})
+    model.advance(2.648521645394783e-254, 0.015625)
+    model.advance(-1.0, 0.015625)                       # pulled out past U1 = 0
+    assert model.outputs().u_pipe == pytest.approx(-0.5 / model.M1 * 0.015625 ** 2, rel=1e-12)
