@@ -86,11 +86,11 @@ def blows(params=None, amplitude=23e3, duration=0.05, contact_growth: bool = Fal
     amplitude, duration = _loads(amplitude, duration, columns.size)
     pars = np.column_stack(np.broadcast_arrays(*parameter_record(columns, contact_growth)))
     out = np.empty((len(pars), len(RESULTS)))
-    par, st = [0.0] * pars.shape[1], state_record()
+    par, st, log = [0.0] * pars.shape[1], state_record(), []      # no mode log kept
     kernel = jit.compiled(blows_into) if compiled else blows_into
     if kernel is not blows_into:
-        par, st = as_array(par), as_array(st)
-    code, case = kernel(st, par, pars, amplitude, duration, float(t_max), out)
+        par, st, log = as_array(par), as_array(st), np.zeros(0)
+    code, case = kernel(st, par, log, pars, amplitude, duration, float(t_max), out)
     if code != OK:
         why = {TOO_MANY_EVENTS: f"more than {MAX_EVENTS_PER_STEP} friction events in one step",
                SEGMENT_MISSED: "a segment event found off its segment end"}.get(code, code)
@@ -112,10 +112,11 @@ def _loads(amplitude, duration, n: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 @jit.jitable
-def blows_into(st, par, pars, amplitude, duration, t_max, out):
+def blows_into(st, par, log, pars, amplitude, duration, t_max, out):
     """For each case ``i``: the constants ``pars[i]`` (a parameter record), a blow of
     ``amplitude[i]`` [N] for ``duration[i]`` [s] from rest, then no load until all is at rest;
-    writes :data:`RESULTS` into ``out[i]``. ``st`` and ``par`` are work records.
+    writes :data:`RESULTS` into ``out[i]``. ``st`` and ``par`` are work records, ``log`` an
+    empty mode log (none kept).
 
     Returns ``(code, case)``: :data:`~pipeplug.rigid.stepping.OK`, or the failure and its case.
     """
@@ -124,9 +125,9 @@ def blows_into(st, par, pars, amplitude, duration, t_max, out):
             par[j] = float(pars[i, j])
         reset_state(st)
         h = float(duration[i])
-        code = step_to(st, par, float(amplitude[i]), h)
+        code = step_to(st, par, log, float(amplitude[i]), h)
         while code == OK and not at_rest(st) and st[TIME] < t_max:
-            code = step_to(st, par, 0.0, st[TIME] + h)     # steps doubling until at rest
+            code = step_to(st, par, log, 0.0, st[TIME] + h)     # steps doubling until at rest
             h = 2.0 * h
         if code != OK:
             return code, i

@@ -92,6 +92,11 @@ class Model(Protocol):
     def energies(self) -> tuple[float, float, float]:
         """Kinetic energy, elastic energy and the scheme's reversing work [J]."""
 
+    def modes(self) -> tuple[tuple[int, int], ...]:
+        """The contact modes the run went through, in order: ``(pipe_mode, plug_mode)`` as in
+        the outputs, consecutive repeats merged (exact: every piece between events; fd: every
+        internal step; elastic: at x_monitor after every communication step)."""
+
     def get_state(self) -> dict:
         """A copy of the whole internal state: plain floats, ints and numpy arrays."""
 

@@ -6,9 +6,11 @@ for it. Only then is numba imported (so a model on the plain path, or a host wit
 never imports it), the marked helpers are registered with numba (they stay plain functions for
 Python callers), and the kernel is compiled in ``nopython`` mode with IEEE arithmetic (no
 fast-math: the compiled and the Python path give the same numbers). Without numba, or with the
-environment variable ``PIPEPLUG_NO_JIT=1``, :func:`compiled` returns the plain function. A
-helper that Python runs best with array operations and compiled code best as a loop is marked
-with :func:`compiled_form`, naming its loop form (both compute the same values with the same
+environment variable ``PIPEPLUG_NO_JIT=1``, :func:`compiled` returns the plain function; the
+elastic model then does not loop in Python but steps with whole-array numpy operations
+(:mod:`pipeplug.elastic.vectorised`, chosen when :func:`enabled` is False). A helper that
+Python runs best with array operations and compiled code best as a loop is marked with
+:func:`compiled_form`, naming its loop form (both compute the same values with the same
 helpers).
 
 Compiled code is cached on disk so that a new process (for example each run of the FMU, whose

@@ -1,21 +1,31 @@
-"""Build ``PipePlug.fmu`` from the installed ``pipeplug`` core and this adapter (pythonfmu).
+"""Build ``PipePlug.fmu``, ``Hammer.fmu`` and the pipe-ramming system files (pythonfmu).
 
 Usage (inside an environment with ``pipeplug[fmu]`` installed)::
 
-    python -m pipeplug_fmu build                    # writes dist/PipePlug.fmu
-    python -m pipeplug_fmu build --dest out/X.fmu   # another destination
+    python -m pipeplug_fmu build                    # writes dist/PipePlug.fmu and the rest
+    python -m pipeplug_fmu build --dest out/X.fmu   # PipePlug.fmu as out/X.fmu, the rest in out/
 
-(``python build_fmu.py`` in the repository does the same.)
+(``python build_fmu.py`` in the repository does the same.) ``--dest`` names PipePlug.fmu's
+file; everything else is written into the same folder:
 
-The FMU's resources hold a script ``pipeplug_slave_<tag>.py`` and one package
-``pipeplug_fmu_<tag>``: the adapter's run-time modules (:mod:`~pipeplug_fmu.slave`,
-:mod:`~pipeplug_fmu.fmi`, :mod:`~pipeplug_fmu.exit_guard`) with the core beside them as
-``pipeplug_fmu_<tag>.pipeplug``. ``<tag>`` is a digest of the content of everything shipped:
-pythonfmu runs all FMUs of a process in one interpreter and imports their modules by name, so a
-rebuilt FMU with a changed core gets names of its own and never runs another build's code, while
-two copies of the same build share modules that are identical anyway. The FMU needs nothing from
-this repository; ``documentation/index.html`` is generated from the same tables the FMU registers
-its variables from, so the two cannot disagree.
+* ``Hammer.fmu``: the blow train (:mod:`~pipeplug_fmu.blows`, :mod:`~pipeplug_fmu.hammer`);
+* ``PipeRamming.ssp``, ``OspSystemStructure.xml``, ``PipePlug_OspModelDescription.xml`` and
+  ``Hammer_OspModelDescription.xml``: Hammer driving PipePlug (:mod:`~pipeplug_fmu.systems`).
+
+Each FMU's resources hold a script ``<prefix>_slave_<tag>.py`` and one package
+``<prefix>_fmu_<tag>`` (prefix ``pipeplug`` or ``hammer``): the adapter's run-time modules of
+that FMU, for PipePlug with the core beside them as ``pipeplug_fmu_<tag>.pipeplug``. ``<tag>`` is
+a digest of the content of everything shipped: pythonfmu runs all FMUs of a process in one
+interpreter and imports their modules by name, so Hammer's modules never meet PipePlug's, a
+rebuilt FMU with changed code gets names of its own and never runs another build's code, while
+two copies of the same build share modules that are identical anyway. An FMU needs nothing from
+this repository; its ``documentation/index.html`` is generated from the same tables it
+registers its variables from, so the two cannot disagree.
+
+pythonfmu writes each zip with its own binaries; the build then compiles the loader
+(:mod:`pipeplug_fmu.native`, with the ``ziglang`` package, once per FMU with its model
+identifier) and puts it at ``binaries/linux64/<modelIdentifier>.so``, pythonfmu's linux64 binary
+beside it as ``<modelIdentifier>_pythonfmu.so``. The win64 binary is pythonfmu's, unchanged.
 """
 from __future__ import annotations
 
@@ -24,57 +34,128 @@ import hashlib
 import shutil
 import sys
 import tempfile
+import zipfile
+from dataclasses import dataclass
 from pathlib import Path
 
-__all__ = ["build", "stage", "main", "DEFAULT_DEST"]
+from .native import compile_loader, inner_name
+
+__all__ = ["build", "build_fmu", "stage", "install_loader", "main", "DEFAULT_DEST", "FMUS"]
 
 DEFAULT_DEST = Path("dist") / "PipePlug.fmu"
 _ADAPTER = Path(__file__).resolve().parent
-_RUNTIME = ("__init__.py", "slave.py", "fmi.py", "exit_guard.py")   # shipped adapter modules
 _TAG_LENGTH = 12
 
 
-def build(dest: Path = DEFAULT_DEST) -> Path:
-    """Build the FMU at ``dest`` and return its path."""
-    from pythonfmu import FmuBuilder
+@dataclass(frozen=True)
+class FmuKind:
+    """What one of the project's FMUs is made of."""
 
-    from .documentation import documentation_html
+    identifier: str            # modelIdentifier, the slave's class name and binaries' names
+    prefix: str                # of the shipped script and package names
+    module: str                # the adapter module holding the slave class
+    runtime: tuple             # the adapter modules shipped
+    with_core: bool            # ship the core as <package>.pipeplug
+    documentation: str         # the adapter module with documentation_html()
+
+
+#: The project's FMUs by modelIdentifier.
+FMUS = {
+    "PipePlug": FmuKind("PipePlug", "pipeplug", "slave", ("__init__.py", "slave.py", "fmi.py"),
+                        True, "documentation"),
+    "Hammer": FmuKind("Hammer", "hammer", "hammer",
+                      ("__init__.py", "hammer.py", "blows.py", "fmi.py"), False,
+                      "hammer_documentation"),
+}
+
+
+def build(dest: Path = DEFAULT_DEST) -> list[Path]:
+    """Build PipePlug.fmu at ``dest`` and, in its folder, Hammer.fmu and the system files.
+
+    Returns every path written, PipePlug.fmu's first.
+    """
+    from .systems import write_systems
 
     dest = Path(dest).resolve()
+    pipeplug = build_fmu("PipePlug", dest)
+    hammer = build_fmu("Hammer", dest.with_name("Hammer.fmu"))
+    return [pipeplug, hammer, *write_systems(dest.parent, pipeplug, hammer)]
+
+
+def build_fmu(identifier: str, dest: Path) -> Path:
+    """Build the FMU ``identifier`` (a key of :data:`FMUS`) at ``dest``; return its path."""
+    import importlib
+
+    from pythonfmu import FmuBuilder
+
+    kind = FMUS[identifier]
+    dest = Path(dest).resolve()
     dest.parent.mkdir(parents=True, exist_ok=True)
-    with tempfile.TemporaryDirectory(prefix="pipeplug_build_") as tmp:
-        script, package = stage(Path(tmp) / "stage")
+    documentation = importlib.import_module(f"{__package__}.{kind.documentation}")
+    with tempfile.TemporaryDirectory(prefix=f"{kind.prefix}_build_") as tmp:
+        script, package = stage(Path(tmp) / "stage", identifier)
         docs = Path(tmp) / "documentation"
         docs.mkdir()
-        (docs / "index.html").write_text(documentation_html(), encoding="utf-8")
-        return Path(FmuBuilder.build_FMU(
+        (docs / "index.html").write_text(documentation.documentation_html(), encoding="utf-8")
+        fmu = Path(FmuBuilder.build_FMU(
             script, dest=dest, project_files=[package], documentation_folder=docs,
             canGetAndSetFMUstate=True, canSerializeFMUstate=True,
             canHandleVariableCommunicationStepSize=True, needsExecutionTool=True))
+        install_loader(fmu, compile_loader(Path(tmp) / f"{identifier}.so", identifier),
+                       identifier)
+        return fmu
 
 
-def stage(folder: Path) -> tuple[Path, Path]:
-    """Write the slave script and its package into ``folder``; return both paths.
+def install_loader(fmu: Path, loader: Path, identifier: str = "PipePlug") -> None:
+    """Rewrite the zip ``fmu``: the loader becomes binaries/linux64/<identifier>.so, pythonfmu's
+    binary moves beside it as :func:`~pipeplug_fmu.native.inner_name`; all else is copied."""
+    binary = f"binaries/linux64/{identifier}.so"
+    inner = f"binaries/linux64/{inner_name(identifier)}"
+    rewritten = fmu.with_suffix(".rewriting")
+    with zipfile.ZipFile(fmu) as src, zipfile.ZipFile(rewritten, "w") as dst:
+        for info in src.infolist():
+            data = src.read(info)
+            if info.filename == binary:
+                dst.writestr(_renamed(info, inner), data)
+                data = loader.read_bytes()
+            dst.writestr(info, data)
+    rewritten.replace(fmu)
 
-    The package is the adapter's run-time modules plus the core, both without compiled caches;
-    its name and the script's carry the digest of their content.
+
+def _renamed(info: zipfile.ZipInfo, name: str) -> zipfile.ZipInfo:
+    """A copy of ``info`` (date, permissions, compression) under another ``name``."""
+    copy = zipfile.ZipInfo(name, info.date_time)
+    copy.compress_type, copy.external_attr = info.compress_type, info.external_attr
+    return copy
+
+
+def stage(folder: Path, identifier: str = "PipePlug") -> tuple[Path, Path]:
+    """Write the slave script of FMU ``identifier`` and its package into ``folder``; return both
+    paths.
+
+    The package is the FMU's adapter modules (plus the core for PipePlug), without compiled
+    caches; its name and the script's carry the digest of their content.
     """
-    import pipeplug
+    kind = FMUS[identifier]
+    files = [(name, _ADAPTER / name) for name in kind.runtime]
+    if kind.with_core:
+        import pipeplug
 
-    core = Path(pipeplug.__file__).resolve().parent
-    files = [(name, _ADAPTER / name) for name in _RUNTIME]
-    files += [(f"pipeplug/{p.relative_to(core).as_posix()}", p) for p in sorted(core.rglob("*.py"))]
+        core = Path(pipeplug.__file__).resolve().parent
+        files += [(f"pipeplug/{p.relative_to(core).as_posix()}", p)
+                  for p in sorted(core.rglob("*.py"))]
     digest = hashlib.sha256()
     for relative, path in files:
         digest.update(relative.encode() + b"\0" + path.read_bytes() + b"\0")
     tag = digest.hexdigest()[:_TAG_LENGTH]
-    package = folder / f"pipeplug_fmu_{tag}"
+    package = folder / f"{kind.prefix}_fmu_{tag}"
     for relative, path in files:
         target = package / relative
         target.parent.mkdir(parents=True, exist_ok=True)
         shutil.copy2(path, target)
-    script = folder / f"pipeplug_slave_{tag}.py"
-    script.write_text(_SCRIPT.format(tag=tag), encoding="utf-8")
+    script = folder / f"{kind.prefix}_slave_{tag}.py"
+    script.write_text(_SCRIPT.format(tag=tag, prefix=kind.prefix, module=kind.module,
+                                     cls=identifier), encoding="utf-8")
     return script, package
 
 
@@ -83,12 +164,12 @@ def stage(folder: Path) -> tuple[Path, Path]:
 # and then releases that namespace, which it had only borrowed. Each instantiation would leave
 # the namespace one reference short, until it is freed under the module. The script takes the
 # reference back in exactly that execution, the one whose locals are not its globals.
-_SCRIPT = '''"""The PipePlug slave of build {tag} (see pipeplug_fmu.build)."""
+_SCRIPT = '''"""The {cls} slave of build {tag} (see pipeplug_fmu.build)."""
 import ctypes as _ctypes
 
-from pipeplug_fmu_{tag}.slave import PipePlug
+from {prefix}_fmu_{tag}.{module} import {cls}
 
-__all__ = ["PipePlug"]
+__all__ = ["{cls}"]
 
 if locals() is not globals():   # pythonfmu's class search: it releases globals() once after
     _ctypes.pythonapi.Py_IncRef(_ctypes.py_object(globals()))
@@ -97,13 +178,18 @@ if locals() is not globals():   # pythonfmu's class search: it releases globals(
 
 def main(argv: list[str] | None = None) -> int:
     """Command line: ``[build] [--dest PATH]``."""
-    parser = argparse.ArgumentParser(prog="python -m pipeplug_fmu",
-                                     description="Build dist/PipePlug.fmu.")
+    parser = argparse.ArgumentParser(
+        prog="python -m pipeplug_fmu",
+        description="Build dist/PipePlug.fmu, dist/Hammer.fmu and the system files "
+                    "PipeRamming.ssp and OspSystemStructure.xml (with the OSP model "
+                    "descriptions) beside them.")
     parser.add_argument("command", nargs="?", choices=("build",), default="build",
                         help="what to do (only: build)")
     parser.add_argument("--dest", type=Path, default=DEFAULT_DEST,
-                        help=f"where to write the FMU (default: {DEFAULT_DEST})")
-    print(build(parser.parse_args(argv).dest))
+                        help=f"where to write PipePlug.fmu (default: {DEFAULT_DEST}); the other "
+                             f"files go into the same folder")
+    for path in build(parser.parse_args(argv).dest):
+        print(path)
     return 0
 
 

@@ -76,18 +76,46 @@ _STEPPING = """
 1e-9 max(1, |t|) is refused (fmi2Discard); within that tolerance the FMU adopts the host's time.
 Stepping past the stopTime of fmi2SetupExperiment is refused (fmi2Discard).</li>
 <li>A non-finite Q is refused at doStep (fmi2Discard). A non-finite or out-of-range parameter, an
-unknown option value, or a fixed parameter set after initialization ends the instance (fmi2Fatal);
-each refusal is one log line naming the variable, its value and the allowed range. Afterwards that
-instance answers every call quietly; other instances are not affected.</li>
+unknown option value, a fixed parameter set after initialization, or a get or set of an unknown
+value reference is refused with fmi2Error; each refusal is one log line naming the variable, its
+value and the allowed range. Afterwards that instance answers every call quietly until fmi2Reset,
+which makes it usable again (or it can be terminated and freed); other instances are not
+affected.</li>
+<li>Every log line carries a category of the LogCategories in modelDescription.xml
+(logStatusDiscard, logStatusError, ...); a <code>%</code> in logged text is written
+<code>%%</code>, as hosts format log messages with printf.</li>
 <li>fmi2Reset returns the instance to its state after instantiation. fmi2GetFMUstate,
 fmi2SetFMUstate and the serialization functions save the whole internal state.</li>
 </ul>
 <h2>Host requirements</h2>
-<p>A Python-hosted FMI 2.0 importer (FMPy, libcosimpy, ...) on linux64 or win64 with numpy
-installed. The FMU brings its own copy of the core and uses it even when the host has imported
+<p>PipePlug runs in a Python interpreter, with numpy. On linux64 the FMU's binary
+(<code>binaries/linux64/PipePlug.so</code>, a small loader in front of the pythonfmu binary
+<code>PipePlug_pythonfmu.so</code> beside it) finds one at the first fmi2Instantiate, in this
+order:</p>
+<ol>
+<li>a Python already running in the host process (FMPy, libcosimpy and other Python-hosted
+importers): that interpreter is used, never a second one, and it must have numpy;</li>
+<li>else the Python named by the environment variable <code>PIPEPLUG_PYTHON</code>: the path of
+its python executable, Python 3.10 or newer with numpy (a virtual environment's
+<code>bin/python</code> works; its packages are used);</li>
+<li>else <code>python3</code> on <code>PATH</code>, if it has numpy.</li>
+</ol>
+<p>Such a Python must have its shared library (libpython3.X.so), as most builds do. Its
+interpreter is started in the host process (without its signal handlers) and stays until the
+process ends. When no usable Python is found, fmi2Instantiate returns NULL after one log line
+(category logStatusError) saying why and what to set; the host process goes on. Any host that
+loads an FMU with dlopen can so run PipePlug: C and C++ importers need no LD_PRELOAD and no
+PYTHONPATH. The resource location may be given in any spelling of a file URI
+(<code>file:///p</code>, <code>file:/p</code>, <code>file://localhost/p</code>, with
+percent-encoded characters); if it is not a file URI, the <code>resources</code> folder next to
+<code>binaries</code> is used.</p>
+<p>On win64 the binary is pythonfmu's own, unchanged: it needs a Python-hosted importer with
+numpy, and it reports refusals as fmi2Fatal (with no category) instead of fmi2Error. The win64
+binary is not run-tested by this project.</p>
+<p>The FMU brings its own copy of the core and uses it even when the host has imported
 another one. With numba installed, the elastic kernels are compiled (cached on disk under
 <code>~/.cache/pipeplug</code> or <code>PIPEPLUG_CACHE_DIR</code>); without it, or with
-<code>PIPEPLUG_NO_JIT=1</code>, they run as plain Python with the same results.</p>
+<code>PIPEPLUG_NO_JIT=1</code>, they run as whole-array numpy with the same results, bit for bit.</p>
 """
 
 
@@ -102,7 +130,8 @@ def documentation_html() -> str:
     return "\n".join(parts)
 
 
-def _table(caption: str, header: tuple, rows) -> str:
+def table(caption: str, header: tuple, rows) -> str:
+    """An HTML table (also Hammer.fmu's documentation's)."""
     head = "".join(f"<th>{escape(h)}</th>" for h in header)
     body = "".join("<tr>" + "".join(f"<td>{escape(str(c))}</td>" for c in row) + "</tr>\n"
                    for row in rows)
@@ -112,21 +141,21 @@ def _table(caption: str, header: tuple, rows) -> str:
 
 def _input_table() -> str:
     name, unit, meaning = fmi.INPUT
-    return _table("Input (Real, continuous)", ("name", "unit", "start", "meaning"),
+    return table("Input (Real, continuous)", ("name", "unit", "start", "meaning"),
                   [(name, unit, 0, meaning)])
 
 
 def _output_table() -> str:
     rows = [(o.name, o.unit if o.kind == "Real" else "-",
              o.kind if o.kind == "Real" else "Integer (-1, 0, 1)", o.meaning) for o in OUTPUTS]
-    return _table("Outputs (initial exact, start 0; values at the end of each step)",
+    return table("Outputs (initial exact, start 0; values at the end of each step)",
                   ("name", "unit", "type", "meaning"), rows)
 
 
 def _parameter_table() -> str:
     rows = [(p.name, p.unit, f"{p.default:g}", p.allowed() + _active(p), p.description)
             for p in PARAMETERS]
-    return _table("Parameters (Real, fixed)", ("name", "unit", "default", "allowed", "meaning"),
+    return table("Parameters (Real, fixed)", ("name", "unit", "default", "allowed", "meaning"),
                   rows)
 
 
@@ -141,7 +170,7 @@ def _option_table() -> str:
     rows = [(name, "Boolean" if isinstance(default, bool) else "String", _fmi_text(default),
              ", ".join(map(_fmi_text, allowed)), meaning)
             for name, (allowed, default, meaning) in OPTIONS.items()]
-    return _table("Options (fixed parameters)", ("name", "type", "default", "allowed",
+    return table("Options (fixed parameters)", ("name", "type", "default", "allowed",
                                                  "meaning"), rows)
 
 

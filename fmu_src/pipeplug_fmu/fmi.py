@@ -1,11 +1,12 @@
-"""Tables and helpers of the PipePlug FMU's interface, shipped beside the slave.
+"""Tables and helpers of the FMUs' interfaces, shipped beside each slave.
 
-The input, the unit definitions, the default experiment, the wording of refusals and the
+PipePlug's input, default experiment and description; for both FMUs (PipePlug and Hammer) the
+unit definitions, the wording of refusals, the refusal exception the loader recognises and the
 decoration of ``modelDescription.xml`` that pythonfmu 0.7 cannot write itself
-(``<UnitDefinitions>``, ``unit``, ``min``, ``max``). Output, parameter and option rows come from
-the core's tables (:data:`pipeplug.OUTPUTS`, :data:`pipeplug.PARAMETERS`,
+(``<UnitDefinitions>``, ``unit``, ``min``, ``max``). PipePlug's output, parameter and option
+rows come from the core's tables (:data:`pipeplug.OUTPUTS`, :data:`pipeplug.PARAMETERS`,
 :data:`pipeplug.OPTIONS`), passed in by the caller: neither pythonfmu nor the core is imported
-here, so the build also reads these tables to write the FMU's documentation.
+here, so the build also reads these tables to write the FMUs' documentation.
 """
 from __future__ import annotations
 
@@ -28,8 +29,36 @@ UNITS = {"m": {"m": 1}, "s": {"s": 1}, "m/s": {"m": 1, "s": -1}, "kg/m3": {"kg":
 #: The default experiment written into modelDescription.xml: (start [s], stop [s], step [s]).
 DEFAULT_EXPERIMENT = (0.0, 0.1, 1e-4)
 
-class PipePlugRefusal(RuntimeError):
-    """The single exception an instance raises (pythonfmu reports it as fmi2Fatal)."""
+
+
+def refusal_mark(model_identifier: str) -> str:
+    """How a refusal of FMU ``model_identifier`` starts in pythonfmu's fatal log line.
+
+    The FMU's linux64 binary (the loader, ``native/loader.c``: ``MODEL "Refusal: "``) turns such
+    a line into the refusal's own fmi2Error line.
+    """
+    return f"{model_identifier}Refusal: "
+
+
+class Refusal(RuntimeError):
+    """The single exception an instance raises; one subclass per FMU, named
+    ``<modelIdentifier>Refusal``.
+
+    pythonfmu reports it as fmi2Fatal, in a line holding its ``repr``: the refusal mark of its
+    FMU and the refusal's text, so that the loader can find the text without parsing a Python
+    literal.
+    """
+
+    def __repr__(self) -> str:
+        return type(self).__name__ + ": " + str(self)
+
+
+class PipePlugRefusal(Refusal):
+    """PipePlug's refusal."""
+
+
+#: How a refusal of PipePlug starts in pythonfmu's fatal log line.
+REFUSAL_MARK = refusal_mark("PipePlug")
 
 
 def escape_percent(text: str) -> str:
@@ -56,7 +85,8 @@ def outlive_the_exception(instance) -> None:
 
 
 def decorate_model_description(root: Element, variables) -> None:
-    """Add ``<UnitDefinitions>`` and each Real's ``unit``, ``min`` and ``max`` (build time).
+    """Add ``<UnitDefinitions>`` (the units of :data:`UNITS` that ``variables`` use) and each
+    Real's ``unit``, ``min`` and ``max`` (build time).
 
     Parameters
     ----------
@@ -66,10 +96,13 @@ def decorate_model_description(root: Element, variables) -> None:
         One entry per ScalarVariable, in value-reference order; ``bounds`` is ``(min, max)``
         with None for an absent bound.
     """
+    variables = list(variables)
+    used = {unit for _, unit, _ in variables}
     units = Element("UnitDefinitions")
     for unit, exponents in UNITS.items():
-        SubElement(SubElement(units, "Unit", name=unit), "BaseUnit",
-                   {k: str(v) for k, v in exponents.items()})
+        if unit in used:
+            SubElement(SubElement(units, "Unit", name=unit), "BaseUnit",
+                       {k: str(v) for k, v in exponents.items()})
     root.insert(list(root).index(root.find("CoSimulation")) + 1, units)
     for node, (_, unit, (lower, upper)) in zip(root.find("ModelVariables"), variables):
         type_node = node[0]

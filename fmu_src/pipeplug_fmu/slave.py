@@ -10,8 +10,10 @@ fmi2Error, so:
 
 * invalid parameters or options, a fixed parameter set after initialization, a set or get of
   an unknown value reference, a failure inside the model: the instance's single exception,
-  which pythonfmu logs as one fmi2Fatal line; afterwards the instance answers every call
-  quietly;
+  a :class:`~pipeplug_fmu.fmi.PipePlugRefusal`. pythonfmu logs it as one fmi2Fatal line; the
+  FMU's linux64 binary (the loader, ``native/loader.c``) gives the host the refusal's own line
+  with fmi2Error instead (pythonfmu's win64 binary, shipped unchanged, still says fmi2Fatal).
+  Afterwards the instance answers every call quietly until fmi2Reset;
 * a non-finite ``Q``, a communication point that is not the FMU's time, a step past the
   stopTime, a step before initialization: one log line, then discard; the instance stays usable.
 
@@ -30,7 +32,6 @@ from __future__ import annotations
 import importlib
 import math
 import pkgutil
-from pathlib import Path
 
 from pythonfmu import (
     Boolean,
@@ -46,7 +47,6 @@ from pythonfmu import (
 from pythonfmu.enums import Fmi2Status
 
 from . import pipeplug as core
-from .exit_guard import install as guard_host_exit
 from .fmi import (
     DEFAULT_EXPERIMENT,
     DESCRIPTION,
@@ -58,9 +58,6 @@ from .fmi import (
     refusal,
 )
 
-# pythonfmu 0.7's binary releases its interpreter state twice at process exit (see the guard).
-guard_host_exit(Path(__file__).resolve().parents[2] / "binaries" / "linux64" / "PipePlug.so")
-
 for _module in pkgutil.walk_packages(core.__path__, core.__name__ + "."):
     importlib.import_module(_module.name)        # every model kind, now (see the docstring)
 
@@ -69,6 +66,7 @@ OPTIONS, PARAMETERS, ParameterError = core.OPTIONS, core.PARAMETERS, core.Parame
 _Q_VR = 0                                         # value reference of Q (registered first)
 _OUTPUT_VRS = tuple(range(1, 1 + len(core.OUTPUTS)))   # the outputs follow, in table order
 _TIME_TOLERANCE = 1e-9                            # relative, contract "Stepping"
+_VR_RANGE = 2 ** 32     # pythonfmu passes fmi2ValueReference (unsigned) as a C int: shown mod this
 
 
 class PipePlug(Fmi2Slave):
@@ -140,13 +138,13 @@ class PipePlug(Fmi2Slave):
             # numba's import (README, "Performance of the FMU"); elastic kernels compile.
             self._model = core.build_model(params, options, compiled=False)
         except ParameterError as exc:
-            self._fatal(refusal(exc.name, exc.value, exc.allowed))
+            self._refuse(refusal(exc.name, exc.value, exc.allowed))
         except ImportError as exc:
             name = "elastic" if options["elastic"] else "solver"
-            self._fatal(refusal(name, options[name], f"a model available in this build "
+            self._refuse(refusal(name, options[name], f"a model available in this build "
                                                      f"(it cannot be loaded: {exc})"))
         except Exception as exc:
-            self._fatal(f"the model cannot be built: {type(exc).__name__}: {exc}")
+            self._refuse(f"the model cannot be built: {type(exc).__name__}: {exc}")
 
     def do_step(self, current_time, step_size):
         model, t, q = self._model, self._time, self._real[_Q_VR]
@@ -162,7 +160,7 @@ class PipePlug(Fmi2Slave):
             model.advance_to(q, current_time + step_size, current_time)
             out = model.outputs()
         except Exception as exc:
-            self._fatal(f"the model failed at t = {t!r} s: {type(exc).__name__}: {exc}")
+            self._refuse(f"the model failed at t = {t!r} s: {type(exc).__name__}: {exc}")
             return False
         self._time = current_time + step_size
         for table, vr, value in zip(self._out_tables, _OUTPUT_VRS, out):
@@ -211,7 +209,8 @@ class PipePlug(Fmi2Slave):
             return list(map(table.__getitem__, vrs))
         except KeyError:
             bad = next(vr for vr in vrs if vr not in table)
-            self._fatal(refusal("valueReference", bad, f"a {kind} variable of PipePlug"))
+            self._refuse(refusal("valueReference", bad % _VR_RANGE,
+                                f"a {kind} variable of PipePlug"))
             return [table.get(vr, _EMPTY[kind]) for vr in vrs]
 
     def set_real(self, vrs, values):
@@ -235,11 +234,11 @@ class PipePlug(Fmi2Slave):
                 return
             name = self._meta.get(vr, ("valueReference",))[0]
             if vr not in table or (vr != _Q_VR and name not in self._params):
-                self._fatal(refusal(name if vr in table else "valueReference",
-                                    value if vr in table else vr,
+                self._refuse(refusal(name if vr in table else "valueReference",
+                                    value if vr in table else vr % _VR_RANGE,
                                     f"a settable {kind} variable (the input Q or a parameter)"))
             elif vr != _Q_VR and self._model is not None:
-                self._fatal(refusal(name, value, f"no change after initialization (fixed "
+                self._refuse(refusal(name, value, f"no change after initialization (fixed "
                                                  f"parameter; it stays {table[vr]!r})"))
             else:
                 table[vr] = value
@@ -255,13 +254,15 @@ class PipePlug(Fmi2Slave):
     def _log(self, line: str, status: Fmi2Status) -> None:
         self.log(escape_percent(line), status)
 
-    def _fatal(self, line: str) -> None:
+    def _refuse(self, line: str) -> None:
         """Raise the instance's one exception, carrying ``line``; quiet once that is done.
 
-        pythonfmu reports the exception as one fmi2Fatal log line that contains ``line``. The
-        line is deliberately not queued with :meth:`log` as well: pythonfmu forwards queued
-        messages while the exception is still pending, which calls the host's logger (a Python
-        callback in FMPy) with an error set and corrupts the host process's heap.
+        pythonfmu reports the exception as one fmi2Fatal log line that contains ``line`` (after
+        :data:`~pipeplug_fmu.fmi.REFUSAL_MARK`); the loader turns it into ``line`` alone, with
+        fmi2Error. The line is deliberately not queued with :meth:`log` as well: pythonfmu
+        forwards queued messages while the exception is still pending, which calls the host's
+        logger (a Python callback in FMPy) with an error set and corrupts the host process's
+        heap where no loader buffers the lines (win64).
         """
         if self._dead:
             return
@@ -291,7 +292,7 @@ class PipePlug(Fmi2Slave):
         except PipePlugRefusal:
             raise
         except Exception as exc:
-            self._fatal(refusal("FMUstate", f"{type(exc).__name__}: {exc}", "a state saved by "
+            self._refuse(refusal("FMUstate", f"{type(exc).__name__}: {exc}", "a state saved by "
                                 "fmi2GetFMUstate or fmi2DeSerializeFMUstate of PipePlug"))
 
     def _restore(self, state) -> None:

@@ -26,6 +26,15 @@ SUBCOMMANDS = {
                   "energy, drift"),
     "scene": ("pipeplug_harness.scenes.command", "harness",
               "run a scene file (TOML: pipe, plug, soil, blows, model, output) through the FMU"),
+    "drive": ("pipeplug_harness.drive.command", "harness",
+              "drive a pipe blow by blow from the soil face to a target or refusal (TOML: pipe, "
+              "plug, soil, blows, model, drive); per-blow CSV, drivability PNG"),
+    "system": ("pipeplug_harness.system.command", "cosim",
+               "run a co-simulated system (SSP or OSP file, e.g. dist/PipeRamming.ssp: Hammer "
+               "driving PipePlug) with libcosim, every parameter checked first; CSV and PNG"),
+    "fuzz": ("pipeplug_harness.fuzz.command", "harness",
+             "differential fuzzing of the rigid models: random cases through the core, the "
+             "reference, the FMU and the fd scheme; invariants, summary, replayable failures"),
 }
 
 

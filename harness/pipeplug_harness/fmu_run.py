@@ -16,7 +16,8 @@ import numpy as np
 
 from pipeplug import OUTPUT_NAMES
 
-__all__ = ["Pulse", "Run", "RunIncomplete", "load_signal", "run_fmu", "OUTPUTS", "DEFAULT_FMU"]
+__all__ = ["Pulse", "Run", "RunIncomplete", "load_signal", "run_fmu", "extracted", "OUTPUTS",
+           "DEFAULT_FMU"]
 
 OUTPUTS = OUTPUT_NAMES           # the core's one table of outputs
 DEFAULT_FMU = Path("dist") / "PipePlug.fmu"
@@ -67,7 +68,7 @@ def load_signal(run: Run) -> np.ndarray:
     return np.array(rows, dtype=[("time", np.float64), ("Q", np.float64)])
 
 
-def _extracted(fmu: str | os.PathLike) -> str:
+def extracted(fmu: str | os.PathLike) -> str:
     """Extract the FMU once per process into a fixed folder (so JIT caches can hit)."""
     path = Path(fmu).resolve()
     key = (str(path), path.stat().st_mtime)
@@ -102,7 +103,7 @@ def run_fmu(run: Run, fmu: str | os.PathLike = DEFAULT_FMU, outputs=OUTPUTS) -> 
     """
     from fmpy import simulate_fmu
     result = simulate_fmu(
-        _extracted(fmu), fmi_type="CoSimulation", start_time=0.0, stop_time=run.stop_time,
+        extracted(fmu), fmi_type="CoSimulation", start_time=0.0, stop_time=run.stop_time,
         output_interval=run.step, start_values=dict(run.params), input=load_signal(run),
         output=list(outputs), validate=False)
     last = float(result["time"][-1])

@@ -28,8 +28,10 @@ REAL_OUTPUTS = ("v_pipe", "v_plug", "u_pipe", "u_plug", "F_outer", "F_inner", "W
                 "W_friction", "W_friction_outer", "W_friction_inner")
 MODES = ("pipe_mode", "plug_mode")
 FLAGS = ("at_rest",)
-PYTHONFMU_LINE = "Fatal py exception"      # pythonfmu's own line that goes with a fatal
-OK, DISCARD, FATAL = 0, 2, 4
+OK, DISCARD, ERROR = 0, 2, 3
+#: modelDescription.xml's LogCategories: every log line carries one of them
+LOG_CATEGORIES = {"logStatusWarning", "logStatusDiscard", "logStatusError", "logStatusFatal",
+                  "logAll"}
 
 
 def _positive(x) -> bool:
@@ -80,7 +82,7 @@ class Instance:
     """The expected state of one FMU instance.
 
     ``phase``: "instantiated", "init" (parameters settable, not built), "run", "dead" (after
-    its one fatal: quiet from then on); ``wild`` after a call in an order FMI forbids and the
+    its one error: quiet from then on, until reset); ``wild`` after a call in an order FMI forbids and the
     contract leaves open (then only survival is checked).
     """
 

@@ -33,7 +33,8 @@ LOG: list = []
 
 def _logger(env, instance, status, category, message):
     LOG.append([instance.decode() if instance else None, status,
-                message.decode("utf-8", "replace") if message else ""])
+                message.decode("utf-8", "replace") if message else "",
+                category.decode() if category else None])
 
 
 CALLBACKS = fmi2CallbackFunctions()

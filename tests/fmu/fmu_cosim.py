@@ -1,7 +1,8 @@
 """libcosim scenarios (libcosimpy), run in a fresh process by ``fmu_scenarios.py``.
 
 libcosim loads the FMU in the same process (pythonfmu shares the interpreter), so a crash of
-the FMU would be a crash of this process: the test sees no result.
+the FMU would be a crash of this process: the test sees no result. Start values are checked with
+:func:`pipeplug_harness.cosim.check_parameters` before an execution is built.
 """
 from __future__ import annotations
 
@@ -35,9 +36,14 @@ def _initial_value(name, value) -> str:
 
 
 def _execution(fmu_file, params, step, tmp):
+    """libcosim's execution of PipePlug with ``params``, checked by the core first (libcosim
+    terminates the process when an FMU fails exitInitializationMode)."""
     from libcosimpy.CosimExecution import CosimExecution
     from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
 
+    from pipeplug_harness.cosim import check_parameters
+
+    check_parameters(params)
     log_output_level(CosimLogLevel.WARNING)
     shutil.copy(fmu_file, Path(tmp) / "PipePlug.fmu")
     initial = "\n".join(_initial_value(k, v) for k, v in params.items())
@@ -74,6 +80,18 @@ def cosim_pulse(fmu_file, params, q0, t0, step, checkpoints):
                 index, [vrs[name] for name in OUTPUTS]))))
         del execution
     return {"rows": rows}
+
+
+def cosim_refused_parameters(fmu_file, params):
+    """An execution with invalid ``params``: refused before libcosim sees it (the message)."""
+    from pipeplug import ParameterError
+
+    with tempfile.TemporaryDirectory() as tmp:
+        try:
+            _execution(fmu_file, params, 1e-3, tmp)
+        except ParameterError as exc:
+            return {"refused": str(exc)}
+    return {"refused": None}
 
 
 def cosim_refused_step(fmu_file, params, q0, step, t_nan):

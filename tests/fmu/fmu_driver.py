@@ -1,4 +1,5 @@
-"""Drive PipePlug.fmu through FMPy's raw FMI 2.0 API (used by ``fmu_scenarios.py``).
+"""Drive PipePlug.fmu (or Hammer.fmu) through FMPy's raw FMI 2.0 API (used by
+``fmu_scenarios.py`` and ``hammer_scenarios.py``).
 
 Loaded only inside the scenario processes. It never imports the ``pipeplug`` core: the FMU must
 bring its own copy. Log messages of every instance are collected in :data:`LOG`, after FMPy's C
@@ -44,12 +45,12 @@ class Slave:
     def __init__(self, fmu_dir: str, name: str):
         md = read_model_description(fmu_dir)
         self.vars = {v.name: v for v in md.modelVariables}
-        self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=fmu_dir, modelIdentifier="PipePlug",
-                             instanceName=name)
+        self.fmu = FMU2Slave(guid=md.guid, unzipDirectory=fmu_dir,
+                             modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
         self.fmu.instantiate(callbacks=_CALLBACKS, loggingOn=True)
 
     def call(self, method: str, *args) -> int:
-        """Call an FMU2Slave method; return the FMI status (0 ok, 2 discard, 4 fatal)."""
+        """Call an FMU2Slave method; return the FMI status (0 ok, 2 discard, 3 error, 4 fatal)."""
         try:
             getattr(self.fmu, method)(*args)
         except FMICallException as exc:

@@ -88,6 +88,10 @@ def bad_input(fmu_dir, kind, value=None):
         elif kind == "bad_state":
             statuses["refused"] = bad.call("setFMUstate",
                                            bad.fmu.deSerializeFMUstate(b"not a PipePlug state"))
+        elif kind == "unknown_get":
+            statuses["refused"] = bad.call("getReal", [value])
+        elif kind == "unknown_set":
+            statuses["refused"] = bad.call("setReal", [value], [1.0])
         elif kind == "past_stop":
             statuses["to_stop"] = bad.step(0.005, 0.005, 23e3)
             statuses["refused"] = bad.step(0.01, 0.005, 23e3)
@@ -95,16 +99,20 @@ def bad_input(fmu_dir, kind, value=None):
     if kind != "past_stop":                      # past the stop time no step is valid
         statuses["later_step"] = bad.step(0.005, 0.005, 23e3)
     statuses["later_set"] = bad.set("Q", 1.0)
-    if "refused" not in statuses or statuses["refused"] == 4:   # refused for good: quiet now
+    if "refused" not in statuses or statuses["refused"] == 3:   # refused for good: quiet now
         statuses["later_set_parameter"] = bad.set("tau1", 1.0)
     statuses["later_get"] = bad.call("getReal", [0, 1, 2])
     statuses["later_terminate"] = bad.call("terminate")
+    statuses["reset"] = bad.call("reset")               # and usable again
+    statuses["after_reset"] = bad.start()
+    after_reset_rows = run_grid(bad, [0.0, 0.01, 0.02], 23e3, 0.05)
     bad.fmu.freeInstance()
     good = Slave(fmu_dir, "good")
     good.start()
     good_rows = run_grid(good, [0.0, 0.01, 0.02], 23e3, 0.05)
     good.close()
-    return {"statuses": statuses, "lines_at_refusal": lines_at_refusal, "good_rows": good_rows}
+    return {"statuses": statuses, "lines_at_refusal": lines_at_refusal, "good_rows": good_rows,
+            "after_reset_rows": after_reset_rows}
 
 
 def reset(fmu_dir, params, times, q0, t0):
@@ -181,6 +189,15 @@ def initialize_only(fmu_dir, params):
     rows = [] if status else run_grid(slave, [0.0, 1e-4, 2e-4], 23e3, 0.05)
     slave.close()
     return {"status": status, "rows": rows}
+
+
+def process_pythons(fmu_dir):
+    """:func:`initialize_only` with default parameters, and the libpython files mapped then."""
+    result = initialize_only(fmu_dir, {})
+    with open("/proc/self/maps") as maps:
+        result["libpythons"] = sorted({line.split()[-1] for line in maps
+                                       if "/libpython" in line})
+    return result
 
 
 def standalone(fmu_dir):

@@ -1,33 +1,36 @@
 """Bad input per the contract's "Bad input" and "Stepping" sections: one log line naming the
-variable, its value and the allowed range; fatal at initialization or on a fixed parameter set
-after it, discard for a step; at most one exception per instance, quiet afterwards; the host
-process survives and another instance in it keeps working.
-
-A fatal refusal's line is the one pythonfmu logs for the instance's exception (status fatal);
-a discarded step's line is logged by PipePlug (status discard)."""
+variable, its value and the allowed range, with the category of its status; fmi2Error at
+initialization, on a fixed parameter set after it or on an unknown value reference, discard for
+a step; one error per instance, quiet afterwards until fmi2Reset; the host process survives and
+another instance in it keeps working."""
 from __future__ import annotations
 
 import pytest
 from fmu_helpers import Q0, assert_matches_closed_form, closed_form, columns, run_scenario
 
-FATAL, DISCARD = 4, 2
+ERROR, DISCARD = 3, 2
+CATEGORY = {ERROR: "logStatusError", DISCARD: "logStatusDiscard"}
 
 #: id -> (kind, value, call refused, status, texts the log line must contain)
 CASES = {
-    "NaN parameter": ("parameters", {"tau2": float("nan")}, "exit_init", FATAL,
+    "NaN parameter": ("parameters", {"tau2": float("nan")}, "exit_init", ERROR,
                       ["tau2 = nan", "allowed", ">= 0"]),
-    "L2 > L1": ("parameters", {"L2": 2.0}, "exit_init", FATAL, ["L2 = 2.0", "allowed", "L1"]),
-    "negative dt with fd": ("parameters", {"solver": "fd", "dt": -1e-4}, "exit_init", FATAL,
+    "L2 > L1": ("parameters", {"L2": 2.0}, "exit_init", ERROR, ["L2 = 2.0", "allowed", "L1"]),
+    "negative dt with fd": ("parameters", {"solver": "fd", "dt": -1e-4}, "exit_init", ERROR,
                             ["dt = -0.0001", "allowed", "> 0"]),
-    "unknown solver": ("parameters", {"solver": "rk4"}, "exit_init", FATAL,
+    "unknown solver": ("parameters", {"solver": "rk4"}, "exit_init", ERROR,
                        ["solver = 'rk4'", "'exact'", "'fd'"]),
-    "percent in a string": ("parameters", {"solver": "%s%s%n%d"}, "exit_init", FATAL,
+    "percent in a string": ("parameters", {"solver": "%s%s%n%d"}, "exit_init", ERROR,
                             ["solver = '%s%s%n%d' is not allowed", "'exact'"]),
-    "fixed parameter after init": ("fixed_after_init", ["tau2", 2e4], "refused", FATAL,
+    "fixed parameter after init": ("fixed_after_init", ["tau2", 2e4], "refused", ERROR,
                                    ["tau2 = 20000.0", "allowed", "after initialization"]),
-    "fixed option after init": ("fixed_after_init", ["solver", "fd"], "refused", FATAL,
+    "fixed option after init": ("fixed_after_init", ["solver", "fd"], "refused", ERROR,
                                 ["solver = 'fd'", "after initialization"]),
-    "damaged FMU state": ("bad_state", None, "refused", FATAL, ["FMUstate = ", "allowed"]),
+    "unknown value reference (get)": ("unknown_get", 123456, "refused", ERROR,
+                                      ["valueReference = 123456", "allowed"]),
+    "unknown value reference (set)": ("unknown_set", 2 ** 32 - 1, "refused", ERROR,
+                                      ["valueReference = 4294967295", "allowed"]),
+    "damaged FMU state": ("bad_state", None, "refused", ERROR, ["FMUstate = ", "allowed"]),
     "NaN Q": ("nan_q", None, "refused", DISCARD, ["Q = nan", "allowed", "finite"]),
     "wrong communication point": ("wrong_time", None, "refused", DISCARD,
                                   ["currentCommunicationPoint = 0.5", "allowed", "0.005"]),
@@ -43,16 +46,19 @@ def test_refusal_per_contract(fmu_dir, case):
     assert statuses[call] == status, statuses
     assert len(result["log"]) == 1, result["log"]                # exactly one line, from "bad"
     line = result["log"][0]
-    assert (line["instance"], line["status"]) == ("bad", status)
+    assert (line["instance"], line["status"], line["category"]) == ("bad", status,
+                                                                    CATEGORY[status])
     for text in texts:
         assert text in line["message"], (text, line["message"])
     assert not result["log"][result["lines_at_refusal"]:]        # nothing more from "bad"
     later = {k: v for k, v in statuses.items() if k.startswith("later")}
-    if status == FATAL:                                          # quiet: no second fatal
+    if status == ERROR:                                          # quiet: no second error
         assert later == {"later_step": DISCARD, "later_set": 0, "later_set_parameter": 0,
                          "later_get": 0, "later_terminate": 0}
     else:                                                        # still usable
         assert set(later.values()) == {0}
+    assert (statuses["reset"], statuses["after_reset"]) == (0, 0)   # reset: usable again
+    assert_matches_closed_form(columns(result["after_reset_rows"]), [0.01, 0.02], {})
     assert_matches_closed_form(columns(result["good_rows"]), [0.01, 0.02], {})
 
 
@@ -60,8 +66,8 @@ def test_percent_through_fmpy_default_logger(fmu_dir):
     """FMPy's default logger printf-formats the message in C: '%s' must arrive escaped."""
     result = run_scenario("default_logger", fmu_dir, script="fmu_default_logger.py",
                           params={"solver": "%s%s%s%n"})
-    assert result["status"] == FATAL
-    assert "[FATAL]" in result["stdout"]
+    assert result["status"] == ERROR
+    assert "[ERROR]" in result["stdout"]
     assert "solver = '%s%s%s%n' is not allowed" in result["stdout"]
 
 
@@ -86,5 +92,12 @@ def test_elastic_is_built_or_refused_cleanly(fmu_dir, attempt):
         assert result["log"] == [] and len(result["rows"]) == 2
         assert 0.0 < result["rows"][-1]["W_input"]
     else:
-        assert result["status"] == FATAL and len(result["log"]) == 1
+        assert result["status"] == ERROR and len(result["log"]) == 1
         assert "elastic = True is not allowed" in result["log"][0]["message"]
+
+
+def test_refused_parameters_never_reach_libcosim(fmu_file):
+    """libcosim terminates the process on a failed exitInitializationMode: the harness's check
+    refuses the execution first, with the FMU's wording, and the process goes on."""
+    result = run_scenario("cosim_refused_parameters", fmu_file, params={"tau1": -1.0})
+    assert result["refused"] == "tau1 = -1.0 is not allowed; allowed: finite, >= 0"

@@ -5,6 +5,7 @@ from __future__ import annotations
 import math
 import xml.etree.ElementTree as ET
 import zipfile
+from pathlib import Path
 
 import pytest
 from fmu_helpers import (
@@ -120,12 +121,13 @@ def test_shipped_under_names_of_this_build_without_caches(fmu_file):
     assert module != tag and len(tag) == 12 and int(tag, 16) >= 0
     package = f"resources/pipeplug_fmu_{tag}/"
     for name in (f"resources/{module}.py", package + "slave.py", package + "fmi.py",
-                 package + "exit_guard.py", package + "pipeplug/__init__.py",
+                 package + "pipeplug/__init__.py",
                  package + "pipeplug/rigid/exact.py", package + "pipeplug/elastic/kernels.py"):
         assert name in names, name
     assert not [n for n in names if "__pycache__" in n or n.endswith(".pyc")]
     assert not [n for n in names if n.startswith("resources/pipeplug/")]    # no shared names
-    assert "binaries/linux64/PipePlug.so" in names and "binaries/win64/PipePlug.dll" in names
+    assert {"binaries/linux64/PipePlug.so", "binaries/linux64/PipePlug_pythonfmu.so",
+            "binaries/win64/PipePlug.dll"} <= set(names)
 
 
 def test_documentation_states_equations_and_variables(fmu_file, variables):
@@ -157,3 +159,45 @@ def test_a_core_imported_by_the_host_does_not_replace_the_shipped_one(fmu_dir):
     result = run_scenario("host_core_first", fmu_dir)
     assert not result["host_core_file"].startswith(str(fmu_dir))
     assert result["core_file"].startswith(str(fmu_dir))
+
+
+def test_documentation_states_how_a_python_is_found_and_the_statuses(fmu_file):
+    html = zipfile.ZipFile(fmu_file).read("documentation/index.html").decode()
+    for text in ("PIPEPLUG_PYTHON", "<code>python3</code> on <code>PATH</code>",
+                 "already running in the host process", "fmi2Instantiate returns NULL",
+                 "refused with fmi2Error", "until fmi2Reset", "LogCategories",
+                 "is not run-tested by this project"):
+        assert text in html, text
+
+
+#: Every function of the FMI 2.0 co-simulation API (fmi2Functions.h).
+FMI2_FUNCTIONS = (
+    "GetTypesPlatform GetVersion SetDebugLogging Instantiate FreeInstance SetupExperiment "
+    "EnterInitializationMode ExitInitializationMode Terminate Reset GetReal GetInteger "
+    "GetBoolean GetString SetReal SetInteger SetBoolean SetString GetFMUstate SetFMUstate "
+    "FreeFMUstate SerializedFMUstateSize SerializeFMUstate DeSerializeFMUstate "
+    "GetDirectionalDerivative SetRealInputDerivatives GetRealOutputDerivatives DoStep "
+    "CancelStep GetStatus GetRealStatus GetIntegerStatus GetBooleanStatus GetStringStatus")
+
+
+def test_linux_binary_is_the_loader_and_exports_every_fmi2_function(fmu_dir):
+    """The loader needs no libpython to load (dlopen in this process only maps it: it starts
+    nothing before fmi2Instantiate) and answers the two calls it serves itself."""
+    import ctypes
+
+    loader = ctypes.CDLL(str(fmu_dir / "binaries" / "linux64" / "PipePlug.so"))
+    for name in FMI2_FUNCTIONS.split():
+        assert hasattr(loader, "fmi2" + name), name
+    loader.fmi2GetVersion.restype = loader.fmi2GetTypesPlatform.restype = ctypes.c_char_p
+    assert (loader.fmi2GetVersion(), loader.fmi2GetTypesPlatform()) == (b"2.0", b"default")
+
+
+def test_pythonfmu_binaries_are_shipped_unchanged(fmu_file):
+    import pythonfmu
+
+    shipped = Path(pythonfmu.__file__).parent / "resources" / "binaries"
+    fmu = zipfile.ZipFile(fmu_file)
+    assert fmu.read("binaries/linux64/PipePlug_pythonfmu.so") == (
+        shipped / "linux64" / "libpythonfmu-export.so").read_bytes()
+    assert fmu.read("binaries/win64/PipePlug.dll") == (
+        shipped / "win64" / "pythonfmu-export.dll").read_bytes()

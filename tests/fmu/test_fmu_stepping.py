@@ -107,7 +107,7 @@ def test_reset_returns_to_state_after_instantiation(fmu_dir):
                           q0=Q0, t0=T0)
     assert result["after_reset"] == {"tau1": 0.0, "solver": "exact"}      # contract defaults
     assert set(result["after_reset_outputs"].values()) == {0}
-    assert result["refused_status"] == 4
+    assert result["refused_status"] == 3                  # fmi2Error: the instance can be reset
     runs = result["runs"]
     assert json.dumps(runs["used"]) == json.dumps(runs["fresh"])
     assert json.dumps(runs["refused"]) == json.dumps(runs["fresh"])

@@ -7,6 +7,7 @@ afterwards. Each result here must be bit-identical to the same run alone in a fr
 from __future__ import annotations
 
 import json
+import os
 import shutil
 import subprocess
 import sys
@@ -90,7 +91,7 @@ def _build_with_changed_core(tmp_path: Path) -> Path:
     assert marker in text
     exact.write_text(text.replace(marker, marker + "        out = (2.0 * out[0], *out[1:])\n"))
     dest = tmp_path / "changed" / "PipePlug.fmu"
-    env = {"PYTHONPATH": str(src), "PATH": "/usr/bin:/bin"}
+    env = {**os.environ, "PYTHONPATH": str(src)}        # the copy before the installed one
     subprocess.run([sys.executable, "-m", "pipeplug_fmu", "build", "--dest", str(dest)],
                    check=True, capture_output=True, env=env, cwd=str(tmp_path))
     assert zipfile.ZipFile(dest).read("resources/slavemodule.txt").startswith(b"pipeplug_slave_")

@@ -11,6 +11,10 @@ loop, not skipped by an ``if`` in it. All kernels take the same arguments::
 fields (without a plug ``v2`` is empty and ``N2`` one unused face), ``u1``/``u2`` the displacements [m] of the
 tracked cells ``cells1``/``cells2`` (``cells1[0]`` is the pipe's front cell), and ``acc`` the
 accumulated works and the last step's friction forces (indices below).
+
+These loops are meant to be compiled (:func:`pipeplug.jit.compiled`). Without numba the model
+uses :mod:`pipeplug.elastic.vectorised` instead: the same variants as whole-array numpy steps,
+with the same results bit for bit.
 """
 from __future__ import annotations
 

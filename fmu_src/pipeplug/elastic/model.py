@@ -18,6 +18,9 @@ drift with the new velocities. At Courant number 1 this transports the rod's wav
 (d'Alembert) with no odd-even decoupling: node-centred velocities with half masses at the ends
 alternate between 0 and twice the wave velocity at the struck end (docs/corrections.md D6).
 
+Without numba the same steps run as whole-array numpy operations instead of compiled loops
+(:mod:`pipeplug.elastic.vectorised`), with the same results bit for bit.
+
 Stepping: a communication step h is taken as n = ceil(h/h_max - 1e-9) equal internal steps,
 h_max = courant dx / c_fastest. The outputs follow the contract's section rule.
 
@@ -30,10 +33,11 @@ import math
 
 import numpy as np
 
+from .. import jit
 from ..interface import ModelBase, Outputs
-from ..jit import compiled
 from .grid import Section, build_grid
 from .kernels import F_IN, F_OUT, K1, K2, KERNELS, M1, M2, N_ACC, W_IN, W_INNER, W_NEG, W_OUTER
+from .vectorised import VECTORISED
 
 __all__ = ["ElasticModel"]
 
@@ -50,14 +54,22 @@ class ElasticModel(ModelBase):
         simulated), else :class:`~pipeplug.params.ParameterError` names ``dx``.
     options : Options
         ``contact_growth`` selects the penetrated contact length of the soil friction.
+    vectorised : bool, optional
+        Step with whole-array numpy operations (:mod:`pipeplug.elastic.vectorised`) rather than
+        the loops compiled by numba (:mod:`pipeplug.elastic.kernels`); both give the same
+        numbers. By default the compiled loops when numba is enabled
+        (:func:`pipeplug.jit.enabled`), else the numpy steps.
     """
 
-    def __init__(self, params, options):
+    def __init__(self, params, options, vectorised: bool | None = None):
         self.params = params
         self.grid = g = build_grid(params)
-        kernel = KERNELS[(g.n2 > 0, g.soil, bool(options.contact_growth))]
-        self.kernel_name = kernel.__name__
-        self._kernel = compiled(kernel)
+        effects = (g.n2 > 0, g.soil, bool(options.contact_growth))
+        self.kernel_name = KERNELS[effects].__name__
+        if vectorised is None:
+            vectorised = not jit.enabled()
+        self.vectorised = bool(vectorised)
+        self._kernel = VECTORISED[effects] if vectorised else jit.compiled(KERNELS[effects])
         self.time = 0.0
         self._dt = 0.0  # the last internal step [s] (the discrete elastic energy needs it)
         self.v1, self.N1 = np.zeros(g.n1), np.zeros(g.n1 + 1)
@@ -65,6 +77,7 @@ class ElasticModel(ModelBase):
         self.u1, self.u2 = np.zeros(g.cells1.size), np.zeros(g.cells2.size)
         self.acc = np.zeros(N_ACC)
         self._rest = None   # at_rest() of the current state, once known
+        self._modes: list[tuple[int, int]] = []      # see modes()
 
     def steps_for(self, h: float) -> int:
         """Number of internal steps taken for a communication step ``h`` [s]."""
@@ -81,25 +94,37 @@ class ElasticModel(ModelBase):
                          g.cells1, self.u1, g.cells2, self.u2, self.acc)
             self._dt = dt
             self._rest = None
+            mode = self._monitor_modes()
+            if not self._modes or self._modes[-1] != mode:
+                self._modes.append(mode)
         self.time = t_end
 
     def outputs(self) -> Outputs:
         """The contract's outputs at the current time (forces of the last internal step)."""
         g, acc = self.grid, self.acc
-        pipe_cell = g.pipe.cell
         v_pipe = _interpolate(self.v1, g.pipe)
         u_pipe = (1.0 - g.pipe.w) * self.u1[1] + g.pipe.w * self.u1[2]
         v_plug = u_plug = 0.0
-        plug_mode = 0
         if g.n2:
             v_plug = _interpolate(self.v2, g.plug)
             u_plug = (1.0 - g.plug.w) * self.u2[0] + g.plug.w * self.u2[1]
-            k = g.plug.cell
-            plug_mode = _sign(self.v1[g.n1 - g.n2 + k] - self.v2[k])
         outer, inner = float(acc[W_OUTER]), float(acc[W_INNER])
         return Outputs(float(v_pipe), float(v_plug), float(u_pipe), float(u_plug),
                        float(acc[F_OUT]), float(acc[F_IN]), float(acc[W_IN]), outer + inner,
-                       outer, inner, self.at_rest(), _sign(self.v1[pipe_cell]), plug_mode)
+                       outer, inner, self.at_rest(), *self._monitor_modes())
+
+    def _monitor_modes(self) -> tuple[int, int]:
+        """(pipe_mode, plug_mode) at the cell of x_monitor (and its plug cell)."""
+        g = self.grid
+        plug_mode = 0
+        if g.n2:
+            k = g.plug.cell
+            plug_mode = _sign(self.v1[g.n1 - g.n2 + k] - self.v2[k])
+        return _sign(self.v1[g.pipe.cell]), plug_mode
+
+    def modes(self) -> tuple[tuple[int, int], ...]:
+        """The modes at x_monitor after every communication step, repeats merged."""
+        return tuple(self._modes)
 
     def at_rest(self) -> bool:
         """Every cell still, and one more internal step under Q = 0 (of the last step's
@@ -138,6 +163,7 @@ class ElasticModel(ModelBase):
         """A copy of the whole state: time, last step, fields, tracked displacements, works."""
         state = {"time": self.time, "dt": self._dt}
         state.update({name: getattr(self, name).copy() for name in _FIELDS})
+        state["modes"] = np.array(self._modes, dtype=np.int64).reshape(-1, 2)
         return state
 
     def set_state(self, state: dict) -> None:
@@ -150,6 +176,7 @@ class ElasticModel(ModelBase):
                                  f"this model needs {target.shape}")
             target[...] = value
         self._rest = None
+        self._modes = [tuple(map(int, row)) for row in np.asarray(state["modes"]).reshape(-1, 2)]
         self.time = float(state["time"])
         self._dt = float(state["dt"])
 

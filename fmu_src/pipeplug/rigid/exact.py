@@ -29,6 +29,8 @@ from .record import (
     ERROR,
     HORIZON,
     KICK,
+    LOGGED,
+    MODE,
     P_M1,
     P_M2,
     T0,
@@ -58,6 +60,7 @@ _STATE_SLOTS = (TIME, T0, U1, V1, U2, V2, W_IN, W_OUTER, W_INNER, Q, KICK, HORIZ
 
 _FRESH_LIST = state_record()           # a fresh model's state, as each path holds it
 _FRESH = as_array(_FRESH_LIST)
+_LOG_SIZE = 64                          # mode codes the solver logs between two takings
 _PATHS: dict = {}                       # compiled (bool) -> the entry points to run
 
 
@@ -97,6 +100,8 @@ class RigidExact(ModelBase):
         self.compiled = fns is not KERNELS          #: True when running compiled code
         self._par = as_array(par) if self.compiled else par
         self._st = _FRESH.copy() if self.compiled else list(_FRESH_LIST)
+        self._log = np.zeros(_LOG_SIZE) if self.compiled else [0.0] * _LOG_SIZE
+        self._modes: list[tuple[int, int]] = []     # taken from the log; see modes()
         (self._step, self._start, self._sample, self._outputs, self._kinetic) = fns
 
     @property
@@ -111,9 +116,19 @@ class RigidExact(ModelBase):
     def _step_to(self, q: float, h: float, t_end: float) -> None:
         """Advance to ``t_end`` [s] under a constant struck-end force ``q`` [N] (events are
         times, so only ``t_end`` matters)."""
-        code = self._step(self._st, self._par, q, t_end)
+        code = self._step(self._st, self._par, self._log, q, t_end)
+        while code == stepping.LOG_FULL:
+            self._take_log()
+            code = self._step(self._st, self._par, self._log, q, t_end)
         if code:
             self._raise(code)
+
+    def _take_log(self) -> None:
+        """Move the mode codes the solver logged into :attr:`_modes` (the solver merged
+        repeats), emptying its log."""
+        st = self._st
+        self._modes.extend(map(stepping.mode_of, self._log[:int(st[LOGGED])]))
+        st[LOGGED] = 0.0
 
     def _raise(self, code: int) -> None:
         """Raise the failure a solver function reported."""
@@ -154,7 +169,10 @@ class RigidExact(ModelBase):
         rows = [OUTPUT_NAMES.index(name) for name in names]
         # Kinematics alone (the first four outputs) need no forces or works.
         table = np.empty((4 if max(rows) < 4 else len(OUTPUT_NAMES), len(times)))
-        code = self._sample(self._st, self._par, loads, times, table)
+        code, done = self._sample(self._st, self._par, self._log, loads, times, table, 0)
+        while code == stepping.LOG_FULL:
+            self._take_log()
+            code, done = self._sample(self._st, self._par, self._log, loads, times, table, done)
         if code:
             self._raise(code)
         return {name: table[row] for name, row in zip(names, rows)}
@@ -172,16 +190,28 @@ class RigidExact(ModelBase):
         """Kinetic energy [J]; rigid bodies store no elastic energy and reverse no work."""
         return float(self._kinetic(self._st, self._par)), 0.0, 0.0
 
+    def modes(self) -> tuple[tuple[int, int], ...]:
+        """Every piece's contact modes (pipe_mode, plug_mode) in order, repeats merged."""
+        self._take_log()
+        return tuple(self._modes)
+
     def get_state(self) -> dict:
-        """The whole state: the current piece's origin, its force and search horizon."""
+        """The whole state: the current piece's origin, its force and search horizon, and the
+        modes gone through."""
         state = {k: float(self._st[i]) for k, i in zip(_STATE_KEYS, _STATE_SLOTS)}
         state["kick"] = int(state["kick"])
+        state["modes"] = np.array(self.modes(), dtype=np.int64).reshape(-1, 2)
         return state
 
     def set_state(self, state: dict) -> None:
         """Restore a state from :meth:`get_state`; the piece is rebuilt deterministically."""
         s = [float(state[k]) for k in _STATE_KEYS]
         time, t0, u1, v1, u2, v2, w_in, w_outer, w_inner, q, kick, horizon = s
-        self._start(self._st, self._par, t0, u1, v1, u2, v2, w_in, w_outer, w_inner, q,
+        self._modes = [(int(s1), int(s2))
+                       for s1, s2 in np.asarray(state["modes"]).reshape(-1, 2)]
+        st = self._st
+        st[LOGGED] = 0.0               # the log continues from the restored modes
+        st[MODE] = stepping.mode_code(*self._modes[-1]) if self._modes else -1.0
+        self._start(st, self._par, self._log, t0, u1, v1, u2, v2, w_in, w_outer, w_inner, q,
                     int(kick), horizon)
         self.time = time

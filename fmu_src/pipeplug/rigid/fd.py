@@ -20,7 +20,9 @@ from __future__ import annotations
 
 import math
 
-from ..contact.coulomb import one_contact, two_contacts
+import numpy as np
+
+from ..contact.coulomb import SLACK, one_contact, two_contacts
 from ..contact.outer import limit, outer_contact_for
 from ..interface import ModelBase, Outputs
 
@@ -58,6 +60,7 @@ class RigidFd(ModelBase):
         self.time = 0.0
         self._s = dict.fromkeys(_STATE_KEYS, 0.0)
         self._s["s1"] = self._s["s2"] = 0
+        self._modes: list[tuple[int, int]] = []      # every step's (s1, s2), repeats merged
 
     def _step_to(self, q: float, h: float, t_end: float) -> None:
         """Advance by ``h`` [s] in equal internal steps <= ``dt`` under ``q`` [N], ending at
@@ -87,8 +90,11 @@ class RigidFd(ModelBase):
     def _step_alone(self, s: dict, q: float, tau: float) -> None:
         """One step of the pipe without a plug."""
         c1 = tau * limit(self.outer, s["U1"])
-        v1, p1 = one_contact(self.M1, s["V1"] + tau * q / self.M1, c1,
-                                   _ROUND_OFF * s["p_max"])
+        trial = s["V1"] + tau * q / self.M1
+        # At least the share two_contacts allows: a load 1 ulp above the limit holds the pipe
+        # from rest, as it does with a plug.
+        v1, p1 = one_contact(self.M1, trial, c1,
+                             max(SLACK * (abs(self.M1 * trial) + c1), _ROUND_OFF * s["p_max"]))
         self._commit(s, q, tau, v1, 0.0, p1, 0.0, (v1 > 0.0) - (v1 < 0.0), 0)
 
     def _commit(self, s, q, tau, v1, v2, p1, p2, s1, s2) -> None:
@@ -101,6 +107,8 @@ class RigidFd(ModelBase):
         s["W_outer"] -= p1 * v1
         s["W_inner"] -= p2 * (v1 - v2)
         s["f1"], s["f2"], s["s1"], s["s2"] = p1 / tau, p2 / tau, s1, s2
+        if not self._modes or self._modes[-1] != (s1, s2):
+            self._modes.append((s1, s2))
 
     def outputs(self) -> Outputs:
         """The contract's outputs (velocities: the last step's (U^{n+1} - U^n)/tau)."""
@@ -114,12 +122,17 @@ class RigidFd(ModelBase):
         s = self._s
         return 0.5 * (self.M1 * s["V1"] ** 2 + self.M2 * s["V2"] ** 2), 0.0, 0.0
 
+    def modes(self) -> tuple[tuple[int, int], ...]:
+        """Every internal step's contact modes (pipe_mode, plug_mode), repeats merged."""
+        return tuple(self._modes)
+
     def get_state(self) -> dict:
-        """A copy of the whole state."""
-        return dict(self._s)
+        """A copy of the whole state, and the modes gone through."""
+        return {**self._s, "modes": np.array(self._modes, dtype=np.int64).reshape(-1, 2)}
 
     def set_state(self, state: dict) -> None:
         """Restore a state from :meth:`get_state`."""
         self._s = {k: state[k] for k in _STATE_KEYS}
+        self._modes = [tuple(map(int, row)) for row in np.asarray(state["modes"]).reshape(-1, 2)]
         self._s["s1"], self._s["s2"] = int(state["s1"]), int(state["s2"])
         self.time = float(state["time"])

@@ -15,6 +15,8 @@ accurate as k -> 0 (no large equilibrium offset that cancels)::
     k < 0:  S = sinh(l t)/l,  C = 2 sinh(l t/2)^2 / (-k), S' = cosh(l t)
     k = 0:  S = t,            C = t^2/2,                  S' = 1
 
+(evaluated without dividing by w or k, see :func:`_basis`).
+
 A motion is the tuple ``(U0 [m], V0 [m/s], a0 [m/s^2], k [1/s^2], w [1/s])`` made by
 :func:`motion` (``w = sqrt(|k|)``), times are measured from its start. The functions take
 floats and tuples only, so that numba compiles them (:func:`pipeplug.jit.jitable`) and Python
@@ -61,24 +63,10 @@ def ulp(x):
 # Trigonometry of a float (math) or of an array of times (numpy): numba resolves the branch when
 # it compiles, Python when it runs.
 @jitable
-def _sin(x):
-    if isinstance(x, float):
-        return math.sin(x)
-    return np.sin(x)
-
-
-@jitable
 def _cos(x):
     if isinstance(x, float):
         return math.cos(x)
     return np.cos(x)
-
-
-@jitable
-def _sinh(x):
-    if isinstance(x, float):
-        return math.sinh(x)
-    return np.sinh(x)
 
 
 @jitable
@@ -89,13 +77,37 @@ def _cosh(x):
 
 
 @jitable
+def _sin_over_x(x):
+    """sin(x)/x, 1 at x = 0 (``x`` a float or an array)."""
+    if isinstance(x, float):
+        return math.sin(x) / x if x != 0.0 else 1.0
+    safe = np.where(x == 0.0, 1.0, x)
+    return np.where(x == 0.0, 1.0, np.sin(safe) / safe)
+
+
+@jitable
+def _sinh_over_x(x):
+    """sinh(x)/x, 1 at x = 0 (``x`` a float or an array)."""
+    if isinstance(x, float):
+        return math.sinh(x) / x if x != 0.0 else 1.0
+    safe = np.where(x == 0.0, 1.0, x)
+    return np.where(x == 0.0, 1.0, np.sinh(safe) / safe)
+
+
+@jitable
 def _basis(k, w, t):
-    """(S, C, S') of a motion with ``k != 0`` at time(s) ``t`` [s]."""
+    """(S, C, S') of a motion with ``k != 0`` at time(s) ``t`` [s].
+
+    Written as ``S = t f(w t) / (w t)`` and ``C = t^2/2 (f(w t/2) / (w t/2))^2`` (f = sin, or
+    sinh for k < 0), the same functions, with no division by a tiny ``w`` or ``k``: the squared
+    sine of a tiny ``w t`` underflows (at tau1 = 1e-295 Pa, C was garbage).
+    """
+    x = w * t
     if k > 0.0:
-        half = _sin(0.5 * w * t)
-        return _sin(w * t) / w, 2.0 * half * half / k, _cos(w * t)
-    half = _sinh(0.5 * w * t)
-    return _sinh(w * t) / w, -2.0 * half * half / k, _cosh(w * t)
+        half = _sin_over_x(0.5 * x)
+        return t * _sin_over_x(x), 0.5 * t * t * half * half, _cos(x)
+    half = _sinh_over_x(0.5 * x)
+    return t * _sinh_over_x(x), 0.5 * t * t * half * half, _cosh(x)
 
 
 @jitable(inline=True)
@@ -214,11 +226,27 @@ def refine_root(kind, m, target, V2, a2, a, b, xtol=0.0):
     Safeguarded Newton: a Newton step from the latest iterate when it stays inside the
     bracket, bisection otherwise; the bracket shrinks with every evaluation. Stops when the
     update or the bracket is a few ulps wide, or narrower than ``xtol`` [s] (the caller's time
-    resolution: below it a root is no better known). Returns a time in (a, b].
+    resolution: a root sooner after ``a`` than time can resolve, approached only linearly by
+    Newton, is no better known below it). Newton converges from one side on a convex or
+    concave function, so the far bracket end may never move: a converged Newton iterate is the
+    answer, not that end.
 
-    Newton converges from one side on a convex or concave function, so the far bracket end may
-    never move: a converged Newton iterate is the answer, not that end.
+    Returns the first float at which the function has left the sign it has at ``a`` (reached 0
+    or crossed), in (a, b]: the converged iterate is walked there ulp by ulp. Where the
+    iteration stops depends on the bracket, and the bracket on how far the search looked
+    ahead, that is on the host's step ends; that float does not, so a run's events, and with
+    them its outputs, do not depend on the communication grid (an event time one ulp apart,
+    times a pipe braking at 5000 m/s^2, moved a plug's velocity by 1.3e-12 of the velocity
+    scale between two grids).
     """
+    positive = _g(kind, m, target, V2, a2, a) > 0.0
+    t = _newton(kind, m, target, V2, a2, a, b, xtol)
+    return _first_past(kind, m, target, V2, a2, t, a, b, positive)
+
+
+@jitable
+def _newton(kind, m, target, V2, a2, a, b, xtol):
+    """An iterate within a few ulps of the root (see :func:`refine_root`)."""
     ga = _g(kind, m, target, V2, a2, a)
     gb = _g(kind, m, target, V2, a2, b)
     if gb == 0.0:
@@ -245,3 +273,32 @@ def refine_root(kind, m, target, V2, a2, a, b, xtol=0.0):
             return b
         t, gt = new, g_new
     return b
+
+
+_WALK = 64          # ulps walked at most from the Newton iterate to the first float past
+
+
+@jitable
+def _past(kind, m, target, V2, a2, t, positive):
+    """True when the function ``kind`` (see :func:`_g`) is 0 at ``t`` [s] or has the sign
+    opposite to ``positive``."""
+    g = _g(kind, m, target, V2, a2, t)
+    return g == 0.0 or (g > 0.0) != positive
+
+
+@jitable
+def _first_past(kind, m, target, V2, a2, t, a, b, positive):
+    """The first float in (a, b] [s] at which the function ``kind`` is 0 or has the sign
+    opposite to ``positive``, walking from ``t`` [s] (which is within a few ulps of it)."""
+    if _past(kind, m, target, V2, a2, t, positive):
+        for _ in range(_WALK):
+            before = math.nextafter(t, -_INF)
+            if before <= a or not _past(kind, m, target, V2, a2, before, positive):
+                return t
+            t = before
+        return t
+    for _ in range(_WALK):
+        t = math.nextafter(t, _INF)
+        if t >= b or _past(kind, m, target, V2, a2, t, positive):
+            return min(t, b)
+    return t

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import math
 
-from ..contact.coulomb import one_contact, two_contacts
+from ..contact.coulomb import SLACK, one_contact, two_contacts
 from ..contact.outer import limit, segment, work
 from ..jit import jitable
 from .motion import (
@@ -130,7 +130,9 @@ def make_piece(st, par, t0, u1, v1, u2, v2, q, kick):
     if coupled:
         _, _, f1s, f2s, p1, p2 = two_contacts(m1, m2, w1, w2, c1_static, c2_static, 0.0)
     else:
-        x1, f1s = one_contact(m1, w1, c1_static, 0.0)
+        # The round-off share two_contacts always allows: a load at the limit to round-off
+        # (1 ulp above it, as Q = F1 computed in another order) holds the pipe, plug or not.
+        x1, f1s = one_contact(m1, w1, c1_static, SLACK * (abs(m1 * w1) + c1_static))
         p1, p2, f2s = _sign(x1), 0, 0.0
     if s1 == 0:
         s1 = p1
@@ -206,7 +208,12 @@ def friction_work_of(st, par, d1, d2):
     outer = work(law_of(par), st[U1], d1, st[S1])
     if kind == TOGETHER:
         return outer, 0.0 * d1
-    return outer, par[P_F2] * st[S2] * (d1 - d2)
+    # The plug's work is >= 0 (its force opposes the relative motion), but the relative
+    # displacement is a difference of two: a piece that starts at zero relative velocity and
+    # acceleration (a breakaway) and is cut short by another event can leave it below their
+    # round-off, of either sign (-1e-33 J once). Dissipation is never negative.
+    inner = par[P_F2] * st[S2] * (d1 - d2)
+    return outer, inner * (inner > 0.0)
 
 
 @jitable

@@ -33,9 +33,12 @@ N_PAR = P_LAW + 4
 # [N]. Works before the piece W_IN, W_OUTER, W_INNER [J]; KICK: the plug's breakaway direction
 # at the piece start. The event search: HORIZON [s] after T0 searched, the event T_EVENT [s]
 # and its LABELS (bits), T_SNAP [s] (a step ending past it takes the event), SEARCHED [s]
-# (events known up to it). ERROR: a value for the message of a failure.
+# (events known up to it). The mode log (see stepping.log_mode): MODE, the code of the last
+# piece's contact modes logged (-1: none yet), and LOGGED, the codes in the log array not yet
+# taken by the model. ERROR: a value for the message of a failure.
 (TIME, T0, Q, U1, V1, U2, V2, S1, S2, KIND, A1, K1, W1, A2, K2, W2, FORCE0, KAPPA, END, FS1,
- FS2, W_IN, W_OUTER, W_INNER, KICK, HORIZON, T_EVENT, T_SNAP, SEARCHED, LABELS, ERROR) = range(31)
+ FS2, W_IN, W_OUTER, W_INNER, KICK, HORIZON, T_EVENT, T_SNAP, SEARCHED, LABELS, MODE, LOGGED,
+ ERROR) = range(33)
 N_STATE = ERROR + 1
 
 
@@ -63,6 +66,7 @@ def reset_state(st):
     for i in range(N_STATE):
         st[i] = 0.0                   # the piece: at rest at the origin, no force, no work
     st[Q] = math.nan
+    st[MODE] = -1.0
     st[T_EVENT] = st[T_SNAP] = st[SEARCHED] = math.inf
 
 

@@ -5,6 +5,11 @@ state, and ``par``, the constants) and nothing else, so that one source runs as 
 compiled by numba (:func:`pipeplug.jit.compiled`), as machine code. Failures are returned as
 codes (:data:`OK`, :data:`TOO_MANY_EVENTS`, :data:`SEGMENT_MISSED`, :data:`LOAD_NOT_FINITE`);
 the model raises them.
+
+The contact modes of every piece go to a mode log (:func:`log_mode`), a float array (a list in
+Python) the caller passes with the records; an empty one logs nothing (the batch API). When it
+is full a function returns :data:`LOG_FULL` before starting another piece: the caller takes the
+codes logged (:func:`mode_of`) and calls again, which continues where it stopped.
 """
 from __future__ import annotations
 
@@ -35,7 +40,10 @@ from .record import (
     KICK,
     KIND,
     LABELS,
+    LOGGED,
+    MODE,
     P_COUPLED,
+    P_LAW,
     P_M1,
     P_M2,
     S1,
@@ -54,50 +62,91 @@ from .record import (
     Q,
 )
 
-__all__ = ["OK", "TOO_MANY_EVENTS", "SEGMENT_MISSED", "LOAD_NOT_FINITE", "MAX_EVENTS_PER_STEP",
-           "step_to",
-           "start_piece", "sample_into", "outputs_at", "kinetic_energy", "at_rest"]
+__all__ = ["OK", "TOO_MANY_EVENTS", "SEGMENT_MISSED", "LOAD_NOT_FINITE", "LOG_FULL",
+           "MAX_EVENTS_PER_STEP", "step_to", "start_piece", "sample_into", "outputs_at",
+           "kinetic_energy", "at_rest", "log_mode", "mode_of", "mode_code"]
 
 #: return codes
-OK, TOO_MANY_EVENTS, SEGMENT_MISSED, LOAD_NOT_FINITE = 0, 1, 2, 3
+OK, TOO_MANY_EVENTS, SEGMENT_MISSED, LOAD_NOT_FINITE, LOG_FULL = 0, 1, 2, 3, 4
 MAX_EVENTS_PER_STEP = 100_000
 _EVENT_SNAP = 1e-13          # relative: an event this close after a step end is taken in it
 _SNAP_LIMIT = 1e-9           # relative: largest believable round-off of a segment crossing
+_SNAP_FLOOR = 1e-12          # of the pipe length: round-off of positions near a segment end
 
 
 @jitable
-def step_to(st, par, q, t_end):
-    """Advance to ``t_end`` [s] under a constant struck-end force ``q`` [N].
+def step_to(st, par, log, q, t_end):
+    """Advance to ``t_end`` [s] under a constant struck-end force ``q`` [N], logging the modes
+    of every piece started into ``log``.
 
-    Returns a code: :data:`OK`, or why the step failed.
+    Returns a code: :data:`OK`, :data:`LOG_FULL` (call again when the log is taken), or why the
+    step failed.
     """
     if q == st[Q] and t_end < st[T_SNAP] and t_end <= st[SEARCHED]:
         st[TIME] = t_end             # the common case: no event inside the step
         return OK
     if q != st[Q]:
-        _restart(st, par, q, t_end)
+        if _log_full(st, log):
+            return LOG_FULL
+        _restart(st, par, log, q, t_end)
     for _ in range(MAX_EVENTS_PER_STEP):
         if t_end > st[SEARCHED]:
             _search(st, par, max(t_end - st[T0], 2.0 * st[HORIZON]))
         if t_end < st[T_SNAP]:
             st[TIME] = t_end
             return OK
-        code = _take_event(st, par)
+        if _log_full(st, log):
+            return LOG_FULL
+        code = _take_event(st, par, log)
         if code != OK:
             return code
     return TOO_MANY_EVENTS
 
 
 @jitable
-def start_piece(st, par, t0, u1, v1, u2, v2, w_in, w_outer, w_inner, q, kick, horizon):
+def start_piece(st, par, log, t0, u1, v1, u2, v2, w_in, w_outer, w_inner, q, kick, horizon):
     """Start a piece at ``t0`` [s] from ``(u1, v1, u2, v2)`` [m, m/s] with the works done so far
     (input, outer and inner friction [J]) under ``q`` [N] (nan: no force yet), the plug kicked
-    by ``kick``, and look for its events up to ``horizon`` [s] after ``t0``."""
+    by ``kick``, log its modes into ``log`` (which has room) and look for its events up to
+    ``horizon`` [s] after ``t0``."""
     st[W_IN], st[W_OUTER], st[W_INNER] = w_in, w_outer, w_inner
     st[KICK] = kick
     make_piece(st, par, t0, u1, v1, u2, v2, 0.0 if math.isnan(q) else q, kick)
     st[Q] = q
+    log_mode(st, log)
     _search(st, par, horizon)
+
+
+@jitable
+def mode_code(s1, s2):
+    """The code 0..8 of the contact modes ``(s1, s2)`` (each -1, 0 or 1) in the mode log."""
+    return 3.0 * (s1 + 1.0) + (s2 + 1.0)
+
+
+def mode_of(code) -> tuple[int, int]:
+    """The contact modes ``(pipe_mode, plug_mode)`` of a code of the mode log."""
+    s1, s2 = divmod(int(code), 3)
+    return s1 - 1, s2 - 1
+
+
+@jitable
+def log_mode(st, log):
+    """Append the current piece's modes to ``log`` unless they repeat the last ones logged
+    (nothing when ``log`` is empty: no log kept)."""
+    if len(log) == 0:
+        return
+    code = mode_code(st[S1], st[S2])
+    if code == st[MODE]:
+        return
+    n = int(st[LOGGED])
+    log[n] = code
+    st[LOGGED], st[MODE] = n + 1.0, code
+
+
+@jitable
+def _log_full(st, log):
+    """True when ``log`` is kept and has no room for another piece's modes."""
+    return len(log) > 0 and st[LOGGED] >= len(log)
 
 
 @jitable
@@ -115,7 +164,7 @@ def _search(st, par, horizon):
 
 
 @jitable
-def _restart(st, par, q, t_end):
+def _restart(st, par, log, q, t_end):
     """Start a new piece at the current time under a new force ``q`` [N], looking for its
     events up to ``t_end`` [s]."""
     t = st[TIME]
@@ -124,12 +173,14 @@ def _restart(st, par, q, t_end):
     if s1 != 0 and v1 * s1 < 0.0:     # round-off past a stop that was not reached
         v1 = 0.0
     if s2 != 0 and (v1 - v2) * s2 < 0.0:
+        if s1 != 0:
+            v1 = _common_velocity(par, v1, v2)
         v2 = v1
-    start_piece(st, par, t, u1, v1, u2, v2, w_in, w_outer, w_inner, q, 0, t_end - t)
+    start_piece(st, par, log, t, u1, v1, u2, v2, w_in, w_outer, w_inner, q, 0, t_end - t)
 
 
 @jitable
-def _take_event(st, par):
+def _take_event(st, par, log):
     """Move the origin to the next event, set the exact post-event values, re-decide modes."""
     t = st[T_EVENT]
     u1, v1, u2, v2, w_in, w_outer, w_inner = values_at(st, par, t)
@@ -139,41 +190,66 @@ def _take_event(st, par):
         v1 = 0.0
         if st[S2] == 0:
             v2 = 0.0
-    if labels & (PLUG_REST | STICK):
+    stick = (labels & STICK) != 0
+    if (labels & PLUG_REST) != 0 or (stick and (labels & PIPE_REST) != 0):
         v2 = v1
+    elif stick:
+        v1 = v2 = _common_velocity(par, v1, v2)
+    if labels & BREAKAWAY_POS:
+        kick = 1
+    if labels & BREAKAWAY_NEG:
+        kick = -1
     if labels & SEGMENT:
         end = st[END]
-        if not abs(u1 - end) <= _snap_allowance(st, t, u1):
+        if not abs(u1 - end) <= _snap_allowance(st, par, t, u1):
             st[ERROR] = u1
             return SEGMENT_MISSED
         if st[S2] == 0:               # the plug moves with the pipe: same shift
             u2 += end - u1
         u1 = end
-    if labels & BREAKAWAY_POS:
-        kick = 1
-    if labels & BREAKAWAY_NEG:
-        kick = -1
+        # The plug reaching its limit just as the pipe changes contact segment: whether it
+        # slips depends on the new segment (its required force may stop growing there); the
+        # new piece decides, breaking away at once if the force still grows.
+        kick = 0
     if par[P_COUPLED] == 0.0:
         u2 = v2 = 0.0
     searched_to = st[T0] + st[HORIZON]
-    start_piece(st, par, t, u1, v1, u2, v2, w_in, w_outer, w_inner, st[Q], kick,
+    start_piece(st, par, log, t, u1, v1, u2, v2, w_in, w_outer, w_inner, st[Q], kick,
                 max(searched_to - t, 0.0))
     return OK
 
 
 @jitable
-def _snap_allowance(st, t, u1):
+def _common_velocity(par, v1, v2):
+    """The velocity [m/s] of pipe and plug sticking together while the pipe slides.
+
+    The stick time is a root to round-off, where the relative velocity is a round-off ``d``
+    (the pipe's deceleration times a few ulps of time). Momentum is conserved: the plug's
+    friction is internal, so this is the together-motion's velocity at that time to second
+    order, and the kinetic energy changes by only M1 M2 d^2 / (2 (M1 + M2)). Setting the plug to
+    the pipe's velocity instead would change it by M2 V2 d, which a heavy plug and a
+    hard-braking pipe make visible in the energy balance (4e-12 of the work at M2 = 127 M1).
+    """
+    m1, m2 = par[P_M1], par[P_M2]
+    return (m1 * v1 + m2 * v2) / (m1 + m2)
+
+
+@jitable
+def _snap_allowance(st, par, t, u1):
     """How far [m] the pipe at ``u1`` [m] may be from the segment end it reached at ``t`` [s].
 
     The event time is a root to round-off, so the move onto the end is round-off; a larger one
     means the event was found at the wrong time, which is reported rather than hidden. Allowed:
     round-off of the position, and the way covered in a few ulps of the event time (a crossing
-    sooner after the piece start than time can resolve is taken at its start).
+    sooner after the piece start than time can resolve is taken at its start), at the
+    resolution of the search's own time (near its horizon), and a floor for the round-off of
+    positions near a segment end at tiny scales (segments are model II's: L1 sets the scale).
     """
     end = st[END]
-    dt = 4.0 * ulp(t)
+    dt = 4.0 * ulp(max(t, st[T0] + st[HORIZON]))
     a = abs(acceleration_at(pipe_of(st), u1))
-    return _SNAP_LIMIT * (abs(end - st[U1]) + abs(end)) + dt * (abs(st[V1]) + a * dt)
+    return (_SNAP_LIMIT * (abs(end - st[U1]) + abs(end)) + dt * (abs(st[V1]) + a * dt)
+            + _SNAP_FLOOR * par[P_LAW + 3])
 
 
 @jitable
@@ -222,38 +298,41 @@ def kinetic_energy(st, par):
 
 
 @jitable
-def sample_into(st, par, loads, times, table):
-    """Dense output: advance through ``times`` [s] under the struck-end force ``loads[j]`` [N]
-    over the interval ending at ``times[j]``, writing the outputs at ``times[j]`` into
-    ``table[:, j]``: all of :data:`pipeplug.interface.OUTPUTS` (13 rows) or the kinematics
-    alone (their first four).
+def sample_into(st, par, log, loads, times, table, first):
+    """Dense output: advance through ``times[first:]`` [s] under the struck-end force
+    ``loads[j]`` [N] over the interval ending at ``times[j]``, writing the outputs at
+    ``times[j]`` into ``table[:, j]``: all of :data:`pipeplug.interface.OUTPUTS` (13 rows) or
+    the kinematics alone (their first four); modes logged as by :func:`step_to`.
 
     Each piece is evaluated for all the sample times it covers at once, so a long record costs
     little more than its events. Same values as stepping to each time and taking the outputs
-    there. Returns a code like :func:`step_to`.
+    there. Returns ``(code, j)``: a code like :func:`step_to`'s and the first sample not
+    written (after :data:`LOG_FULL`, call again from there).
     """
     n = times.shape[0]
-    lo = 0
+    lo = first
     while lo < n:                     # one run of samples per constant load
         q = float(loads[lo])
         if not q - q == 0.0:
-            return LOAD_NOT_FINITE
+            return LOAD_NOT_FINITE, lo
         hi = lo + 1
         while hi < n and loads[hi] == q:
             hi += 1
-        code = _sample_run(st, par, q, times, lo, hi, table)
+        code, lo = _sample_run(st, par, log, q, times, lo, hi, table)
         if code != OK:
-            return code
-        lo = hi
-    return OK
+            return code, lo
+    return OK, n
 
 
 @jitable
-def _sample_run(st, par, q, times, lo, hi, table):
-    """:func:`sample_into` for the samples ``lo..hi-1``, all under the force ``q`` [N]."""
+def _sample_run(st, par, log, q, times, lo, hi, table):
+    """:func:`sample_into` for the samples ``lo..hi-1``, all under the force ``q`` [N]; returns
+    the code and the first sample not written."""
     t_last = float(times[hi - 1])
     if q != st[Q]:
-        _restart(st, par, q, t_last)
+        if _log_full(st, log):
+            return LOG_FULL, lo
+        _restart(st, par, log, q, t_last)
     done = lo
     for _ in range(MAX_EVENTS_PER_STEP * (hi - lo)):
         if t_last > st[SEARCHED]:
@@ -264,11 +343,13 @@ def _sample_run(st, par, q, times, lo, hi, table):
             done = upto
         if done == hi:
             st[TIME] = t_last
-            return OK
-        code = _take_event(st, par)
+            return OK, hi
+        if _log_full(st, log):
+            return LOG_FULL, done
+        code = _take_event(st, par, log)
         if code != OK:
-            return code
-    return TOO_MANY_EVENTS
+            return code, done
+    return TOO_MANY_EVENTS, done
 
 
 @jitable

@@ -53,8 +53,8 @@ def _fresh_model(dx: float = 0.01):
     return build_model({"dx": dx}, {"elastic": True})
 
 
-def _scene_steps(model):
-    """(steps, dt, Q) of the two load levels of the Fig. 7 scene."""
+def scene_steps(model):
+    """(steps, dt, Q) of the two load levels of the Fig. 7 scene (one blow, then rest)."""
     from pipeplug_harness.figures.fig7 import Q0, T0, T_END
     plan = []
     for q, h in ((Q0, T0), (0.0, T_END - T0)):
@@ -63,11 +63,11 @@ def _scene_steps(model):
     return plan
 
 
-def _run_arrays(runner, model) -> float:
+def run_arrays(runner, model) -> float:
     """Run ``runner`` (kernel signature) over the scene on ``model``'s arrays; seconds."""
     g = model.grid
     start = time.perf_counter()
-    for n, dt, q in _scene_steps(model):
+    for n, dt, q in scene_steps(model):
         runner(n, dt, q, g.coef, model.v1, model.N1, model.v2, model.N2, g.cells1, model.u1,
                g.cells2, model.u2, model.acc)
     return time.perf_counter() - start
@@ -90,7 +90,7 @@ def _time_model(repeat: int, h: float | None) -> tuple[float, object]:
     return best, model
 
 
-def _disagreement(a, b) -> float:
+def disagreement(a, b) -> float:
     """Largest difference between two models' fields, relative to each field's size."""
     worst = 0.0
     for name in _FIELDS:
@@ -106,13 +106,13 @@ def timings(repeat: int = 5, with_c: bool = True) -> dict:
     import pipeplug.elastic  # noqa: F401  (the import itself is measured)
     res = {"import_in_process": time.perf_counter() - t}
     first = _fresh_model()
-    res["first_run"] = _run_arrays(first._kernel, first)  # compile or cache load + one run
+    res["first_run"] = run_arrays(first._kernel, first)  # compile or cache load + one run
     res["kernel"], ours = _time_model(repeat, None)
     res["kernel_fmu_steps"], _ = _time_model(repeat, 1e-4)
     from .elastic_reference import build_c, run_c, run_numpy
     reference = _fresh_model()
-    res["numpy"] = _run_arrays(run_numpy, reference)
-    res["numpy_vs_kernel"] = _disagreement(ours, reference)
+    res["numpy"] = run_arrays(run_numpy, reference)
+    res["numpy_vs_kernel"] = disagreement(ours, reference)
     if with_c:
         t = time.perf_counter()
         function = build_c()
@@ -120,9 +120,9 @@ def timings(repeat: int = 5, with_c: bool = True) -> dict:
         res["c"] = np.inf
         for _ in range(repeat):
             compiled = _fresh_model()
-            res["c"] = min(res["c"], _run_arrays(
+            res["c"] = min(res["c"], run_arrays(
                 lambda *args: run_c(function, *args), compiled))
-        res["c_vs_kernel"] = _disagreement(ours, compiled)
+        res["c_vs_kernel"] = disagreement(ours, compiled)
     res["one_time"] = _one_time_costs()
     return res
 

@@ -1,13 +1,21 @@
-"""Two independent codings of the elastic scheme for pipe and plug (no soil friction).
+"""Independent codings of the elastic scheme, for the benchmarks only (never imported by the core).
 
-Used only by the benchmark (:mod:`pipeplug_harness.bench.elastic`) to time the package's kernel
-against (a) the same scheme as numpy vector operations per time step and (b) a C loop compiled
-at run time with the system compiler (``cc -O3``) and called through ctypes. Both follow
-:mod:`pipeplug.elastic_cells` step by step: kick, pair Coulomb projection of each coupled
-pipe/plug cell, drift of the inner-face forces, tracked displacements, works.
+Used by :mod:`pipeplug_harness.bench.elastic` to time the package's kernels against
 
-Arrays and constants are those of :class:`pipeplug.elastic.ElasticModel` (``v1, N1, v2, N2, u1,
-u2, acc`` and ``grid.coef``, ``grid.cells1``, ``grid.cells2``), changed in place.
+(a) the same scheme as numpy operations on whole arrays, one time step at a time:
+    :func:`run_numpy` for pipe and plug (the Fig. 7 scene), :func:`run_numpy_full` for pipe,
+    plug and soil friction over the penetrated length (every effect on);
+(b) a C loop for pipe and plug, compiled at run time with the system compiler (``cc -O3``) and
+    called through ctypes.
+
+All follow the scheme of :mod:`pipeplug.elastic.cells` step by step: kick, Coulomb projection of
+each cell, drift of the inner-face forces, tracked displacements, works. The joint projection of
+pipe, plug and soil in :func:`run_numpy_full` is solved here in closed form (the plug's friction
+as a function of the pipe's velocity, then the pipe's), not with the core's pattern table, so the
+two agree to round-off, not bit for bit.
+
+Arrays and constants are those of :class:`pipeplug.elastic.model.ElasticModel` (``v1, N1, v2,
+N2, u1, u2, acc`` and ``grid.coef``, ``grid.cells1``, ``grid.cells2``), changed in place.
 """
 from __future__ import annotations
 
@@ -18,12 +26,13 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["run_numpy", "build_c", "run_c", "C_SOURCE"]
+__all__ = ["run_numpy", "run_numpy_full", "build_c", "run_c", "C_SOURCE"]
 
 _SLACK = 1e-13
-# coefficient and accumulator indices of pipeplug.elastic_kernel (M1, K1, M2, K2, C1, C2, DX)
-_M1, _K1, _M2, _K2, _C2 = 0, 1, 2, 3, 5
-_W_IN, _W_FR, _W_NEG, _F_IN = 0, 1, 2, 4
+# coefficient and accumulator indices of pipeplug.elastic.kernels (M1, K1, M2, K2, C1, C2, DX;
+# W_IN, W_OUTER, W_INNER, W_NEG, F_OUT, F_IN), repeated here: the core is not imported
+_M1, _K1, _M2, _K2, _C1, _C2, _DX = range(7)
+_W_IN, _W_OUTER, _W_INNER, _W_NEG, _F_OUT, _F_IN = range(6)
 
 
 def run_numpy(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
@@ -46,7 +55,7 @@ def run_numpy(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
         v1[j0:] = np.where(stuck, x, w1 + f2 / m1)
         v2[:] = np.where(stuck, x, w2 - f2 / m2)
         d = -0.5 * f2 * (p_old - q_old + v1[j0:] - v2)
-        acc[_W_FR] += d[d >= 0.0].sum()
+        acc[_W_INNER] += d[d >= 0.0].sum()
         acc[_W_NEG] += d[d < 0.0].sum()
         impulse = f2.sum()
         acc[_W_IN] += 0.5 * q * dt * (v_first + v1[0])
@@ -54,7 +63,69 @@ def run_numpy(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
         N2[1:-1] += b2 * np.diff(v2)
         u1 += dt * v1[cells1]
         u2 += dt * v2[cells2]
+    acc[_F_OUT] = 0.0
     acc[_F_IN] = impulse / dt
+
+
+def run_numpy_full(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
+    """Pipe, plug and soil friction over the penetrated length (contact growth), with numpy
+    operations on whole arrays, one time step at a time."""
+    m1, m2 = coef[_M1], coef[_M2]
+    a1, a2, c1, c2 = dt / m1, dt / m2, dt * coef[_C1], dt * coef[_C2]
+    b1, b2 = coef[_K1] * dt, coef[_K2] * dt
+    n1, j0 = v1.size, v1.size - v2.size
+    cell_ends = np.arange(1.0, n1 + 1.0)    # in cells from the struck end
+    N1[0] = -q
+    outer = inner = 0.0
+    for _ in range(n):
+        v_first = v1[0]
+        # the soil touches reference x >= L1 - min(max(u_front, 0), L1): a share of each cell
+        front = n1 - np.clip(u1[0] / coef[_DX], 0.0, n1)
+        limit = c1 * np.clip(cell_ends - front, 0.0, 1.0)
+        p_old, q_old = v1.copy(), v2.copy()
+        w1, w2 = v1 + a1 * np.diff(N1), v2 + a2 * np.diff(N2)
+        # pipe cells outside the plug: the soil contact alone
+        mw, lim = m1 * w1[:j0], limit[:j0]
+        f_soil = np.clip(-mw, -lim, lim)
+        v1[:j0] = np.where(np.abs(mw) <= lim, 0.0, w1[:j0] + f_soil / m1)
+        # cells with the plug: both contacts
+        x1, x2, f1, f2 = _pipe_plug_soil(m1, m2, w1[j0:], w2, limit[j0:], c2)
+        v1[j0:], v2[:] = x1, x2
+        d_outer = -0.5 * np.concatenate((f_soil, f1)) * (p_old + v1)
+        d_inner = -0.5 * f2 * (p_old[j0:] - q_old + x1 - x2)
+        acc[_W_OUTER] += d_outer[d_outer >= 0.0].sum()
+        acc[_W_INNER] += d_inner[d_inner >= 0.0].sum()
+        acc[_W_NEG] += d_outer[d_outer < 0.0].sum() + d_inner[d_inner < 0.0].sum()
+        outer, inner = f_soil.sum() + f1.sum(), f2.sum()
+        acc[_W_IN] += 0.5 * q * dt * (v_first + v1[0])
+        N1[1:-1] += b1 * np.diff(v1)
+        N2[1:-1] += b2 * np.diff(v2)
+        u1 += dt * v1[cells1]
+        u2 += dt * v2[cells2]
+    acc[_F_OUT] = outer / dt
+    acc[_F_IN] = inner / dt
+
+
+def _pipe_plug_soil(m1, m2, w1, w2, c1, c2):
+    """Pipe cells on the soil (impulse limits ``c1``) coupled to plug cells (limit ``c2``).
+
+    For a pipe velocity ``x`` the plug either moves with the pipe or slides at its limit, so
+    the plug's friction on the pipe is ``F(x) = clip(m2 (w2 - x), -c2, c2)``, decreasing in x.
+    The pipe stays at rest when the reaction ``-m1 w1 - F(0)`` is within ``c1``; otherwise it
+    moves against ``f1 = -+c1`` and ``m1 (x - w1) = f1 + F(x)`` has one root: the plug moving
+    with it if that root keeps ``|F| <= c2``, else sliding. Returns ``x1, x2, f1, f2``.
+    """
+    mw1, mw2 = m1 * w1, m2 * w2
+    reaction = -mw1 - np.clip(mw2, -c2, c2)
+    at_rest = np.abs(reaction) <= c1
+    f1 = np.clip(reaction, -c1, c1)
+    x = (mw1 + mw2 + f1) / (m1 + m2)
+    f_with = m2 * (w2 - x)
+    with_pipe = np.where(at_rest, np.abs(mw2) <= c2, np.abs(f_with) <= c2)
+    f2 = np.clip(np.where(at_rest, mw2, f_with), -c2, c2)
+    x1 = np.where(at_rest, 0.0, np.where(with_pipe, x, w1 + (f1 + f2) / m1))
+    x2 = np.where(with_pipe, x1, w2 - f2 / m2)
+    return x1, x2, f1, f2
 
 
 C_SOURCE = r"""
@@ -94,14 +165,14 @@ void run_pipe_plug(int64_t n, double dt, double q, const double *coef, double *v
             double d = -0.5 * f2 * (p_old - q_old + x1 - x2);
             if (d >= 0.0) work += d; else neg += d;
         }
-        acc[1] += work; acc[2] += neg;
+        acc[2] += work; acc[3] += neg;
         acc[0] += 0.5 * q * dt * (v_first + v1[0]);
         for (int64_t f = 1; f < n1; ++f) N1[f] += b1 * (v1[f] - v1[f - 1]);
         for (int64_t f = 1; f < n2; ++f) N2[f] += b2 * (v2[f] - v2[f - 1]);
         for (int64_t i = 0; i < t1; ++i) u1[i] += dt * v1[cells1[i]];
         for (int64_t i = 0; i < t2; ++i) u2[i] += dt * v2[cells2[i]];
     }
-    acc[4] = inner / dt;
+    acc[4] = 0.0; acc[5] = inner / dt;
 }
 """
 

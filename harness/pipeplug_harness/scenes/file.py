@@ -34,7 +34,8 @@ else:                                   # pragma: no cover - Python 3.10
 
 from pipeplug_harness.fmu_run import OUTPUTS, Pulse
 
-__all__ = ["Scene", "SceneError", "load_scene", "AUTO_RATIO", "SECTIONS"]
+__all__ = ["Scene", "SceneError", "load_scene", "read_sections", "checked_sections", "elastic_choice",
+           "AUTO_RATIO", "SECTIONS"]
 
 #: Blow duration / wave round trip at and above which "auto" picks the rigid model. The paper's
 #: Fig. 7 case (ratio 125) differs from the elastic model by well under 1 % in peak velocity.
@@ -76,14 +77,12 @@ class Scene:
 def load_scene(path: str | Path) -> Scene:
     """Read and validate a scene file (TOML)."""
     path = Path(path)
-    with open(path, "rb") as fh:
-        raw = tomllib.load(fh)
-    values = _checked(raw)
+    values = read_sections(path, SECTIONS, nested=("blows", "output"))
     blows = values.pop("blows")
     output = values.pop("output")
     pulses = [Pulse(blows["start"] + i * blows["period"], blows["duration"], blows["amplitude"])
               for i in range(blows["count"])]
-    elastic, reason = _elastic_choice(values.pop("elastic"), values, blows["duration"])
+    elastic, reason = elastic_choice(values.pop("elastic"), values, blows["duration"])
     start_values = {k: v for k, v in values.items() if v is not None}
     start_values["elastic"] = elastic
     stop = output["stop_time"] or pulses[-1].end + 0.25
@@ -91,19 +90,42 @@ def load_scene(path: str | Path) -> Scene:
                  list(output["variables"]), reason)
 
 
-def _checked(raw: dict) -> dict:
-    """Flatten the sections into one dict after checking every key against the table."""
+def read_sections(path: str | Path, sections: dict, nested=()) -> dict:
+    """Read a TOML file and check it against a table of sections (see :func:`checked_sections`)."""
+    with open(path, "rb") as fh:
+        raw = tomllib.load(fh)
+    return checked_sections(raw, sections, nested)
+
+
+def checked_sections(raw: dict, sections: dict, nested=()) -> dict:
+    """Check every section and key of ``raw`` against ``sections`` and fill in the defaults.
+
+    Parameters
+    ----------
+    raw : dict
+        The parsed TOML.
+    sections : dict
+        section -> {key: (python type(s), default)}, like :data:`SECTIONS`.
+    nested : sequence of str
+        Sections kept as their own dict; the keys of the others are flattened into one dict
+        (they are FMU start values).
+
+    Raises
+    ------
+    SceneError
+        Naming the unknown section, key or value and the allowed ones.
+    """
     for section in raw:
-        if section not in SECTIONS:
-            raise SceneError(f"unknown section [{section}]; allowed: {', '.join(SECTIONS)}")
+        if section not in sections:
+            raise SceneError(f"unknown section [{section}]; allowed: {', '.join(sections)}")
     flat = {}
-    for section, keys in SECTIONS.items():
+    for section, keys in sections.items():
         given = raw.get(section, {})
         for key in given:
             if key not in keys:
                 raise SceneError(f"unknown key {key!r} in [{section}]; allowed: "
                                  f"{', '.join(keys)}")
-        out = flat.setdefault(section, {}) if section in ("blows", "output") else flat
+        out = flat.setdefault(section, {}) if section in nested else flat
         for key, (kind, default) in keys.items():
             out[key] = _typed(section, key, given.get(key, default), kind)
     return flat
@@ -135,7 +157,7 @@ def _typed(section: str, key: str, value, kind):
     return float(value) if kind is float else value
 
 
-def _elastic_choice(choice, values: dict, duration: float) -> tuple[bool, str]:
+def elastic_choice(choice, values: dict, duration: float) -> tuple[bool, str]:
     """Resolve ``elastic = "auto"`` by the paper's criterion and say why."""
     if isinstance(choice, bool):
         return choice, f"elastic = {str(choice).lower()} (given)"

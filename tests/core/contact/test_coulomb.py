@@ -1,12 +1,15 @@
 """The joint two-contact Coulomb problem, the one source every solver uses.
 
 Coulomb's law holds, the solution is the minimiser of the convex problem, the pattern returned
-is the first consistent one of the table, and the compiled form (numba) gives the same bits.
+is the first consistent one of the table (by the scalar form, the form compiled by numba and
+the vectorised form), and the compiled form gives the same bits.
 """
 import numpy as np
 import pytest
+from contact_cases import as_arrays, boundary_cases, cases
 
 from pipeplug import jit
+from pipeplug.contact import vectorised
 from pipeplug.contact.coulomb import (
     PATTERNS,
     SLACK,
@@ -22,19 +25,8 @@ def _objective(m1, m2, w1, w2, c1, c2, x1, x2):
             + c2 * abs(x1 - x2))
 
 
-def _cases(n=4000, seed=1):
-    rng = np.random.default_rng(seed)
-    for _ in range(n):
-        m1, m2 = 10.0 ** rng.uniform(-3, 3, 2)
-        w1, w2 = rng.normal(0, 1, 2) * 10.0 ** rng.uniform(-2, 2, 2)
-        c1, c2 = 10.0 ** rng.uniform(-3, 3, 2) * (rng.random(2) > 0.1)
-        if rng.random() < 0.2:       # place the case exactly on a stick/slip boundary
-            w1 = c1 / m1 * rng.choice([-1, 1])
-        yield m1, m2, w1, w2, c1, c2
-
-
 def test_coulomb_law_and_momentum_hold():
-    for m1, m2, w1, w2, c1, c2 in _cases():
+    for m1, m2, w1, w2, c1, c2 in cases():
         x1, x2, f1, f2, s1, s2 = two_contacts(m1, m2, w1, w2, c1, c2, 0.0)
         scale = abs(m1 * w1) + abs(m2 * w2) + c1 + c2
         assert abs(m1 * x1 - m1 * w1 - f1 - f2) <= 1e-12 * scale
@@ -52,7 +44,7 @@ def test_coulomb_law_and_momentum_hold():
 
 def test_solution_minimises_the_convex_objective():
     rng = np.random.default_rng(7)
-    for m1, m2, w1, w2, c1, c2 in list(_cases(600, seed=3)):
+    for m1, m2, w1, w2, c1, c2 in list(cases(600, seed=3)):
         x1, x2, *_ = two_contacts(m1, m2, w1, w2, c1, c2, 0.0)
         j0 = _objective(m1, m2, w1, w2, c1, c2, x1, x2)
         size = abs(w1) + abs(w2) + 1e-9
@@ -82,17 +74,33 @@ def test_sliding_plug_drags_a_stopped_pipe():
     assert s1 == 1 and x1 == pytest.approx((F2 - F1) / m1)
 
 
-def test_the_first_consistent_pattern_of_the_table_is_returned():
+def _scalar_patterns(m1, m2, w1, w2, c1, c2):
+    rows = [two_contacts(*case, 0.0)[4:] for case in zip(m1, m2, w1, w2, c1, c2)]
+    return tuple(np.array(rows).T)
+
+
+def _compiled_patterns(m1, m2, w1, w2, c1, c2):
+    return _compiled()[1](m1, m2, w1, w2, c1, c2)
+
+
+def _vectorised_patterns(m1, m2, w1, w2, c1, c2):
+    return vectorised.two_contacts(m1, m2, w1, w2, c1, c2, 0.0)[4:]
+
+
+@pytest.mark.parametrize("form", [_scalar_patterns, _compiled_patterns, _vectorised_patterns],
+                         ids=["scalar", "compiled", "vectorised"])
+def test_the_first_consistent_pattern_of_the_table_is_returned(form):
     """Ties on a stick/slip boundary go to the most stuck pattern: the table's order."""
-    for m1, m2, w1, w2, c1, c2 in _cases(2000, seed=5):
-        x1, x2, f1, f2, s1, s2 = two_contacts(m1, m2, w1, w2, c1, c2, 0.0)
+    rows = list(cases(2000, seed=5)) + list(boundary_cases(2000, seed=6))
+    s1, s2 = form(*as_arrays(rows))
+    for (m1, m2, w1, w2, c1, c2), got in zip(rows, zip(s1, s2)):
         scale = SLACK * (abs(m1 * w1) + abs(m2 * w2) + c1 + c2)
         consistent = [p for p in PATTERNS if pattern(m1, m2, w1, w2, c1, c2, *p)[4] <= scale]
-        assert consistent and (s1, s2) == consistent[0]
+        assert consistent and got == consistent[0]
 
 
 def test_pair_contact_is_two_contacts_without_soil():
-    for m1, m2, w1, w2, _, c2 in _cases(2000, seed=11):
+    for m1, m2, w1, w2, _, c2 in cases(2000, seed=11):
         x1, x2, f2 = pair_contact(m1, m2, w1, w2, c2)
         ref = two_contacts(m1, m2, w1, w2, 0.0, c2, 0.0)
         # Both exact to round-off in momentum; a light body turns that into velocity.
@@ -110,17 +118,39 @@ def test_stick_at_the_limit_and_never_reverse():
     assert 0.0 < x < 3.0 and f == -5.0
 
 
+_COMPILED = []
+
+
+def _compiled():
+    """The scalar projections called from code compiled by numba (compiled once): a function of
+    scalars returning all three forms' results, and the patterns of arrays of cases."""
+    if not _COMPILED:
+        assert jit.enabled(), "the test environment has numba (the 'fast' extra)"
+        import numba
+
+        # The elastic cells module marks the projections for numba (coulomb never imports it).
+        import pipeplug.elastic.cells  # noqa: F401
+
+        @numba.njit
+        def projections(m1, m2, w1, w2, c1, c2):
+            return (one_contact(m1, w1, c1, 0.0), pair_contact(m1, m2, w1, w2, c2),
+                    two_contacts(m1, m2, w1, w2, c1, c2, 0.0))
+
+        @numba.njit
+        def patterns(m1, m2, w1, w2, c1, c2):
+            s1, s2 = np.empty(m1.size, np.int64), np.empty(m1.size, np.int64)
+            for i in range(m1.size):
+                s1[i], s2[i] = two_contacts(m1[i], m2[i], w1[i], w2[i], c1[i], c2[i], 0.0)[4:]
+            return s1, s2
+
+        _COMPILED.extend((projections, patterns))
+    return _COMPILED
+
+
 def test_compiled_projections_give_the_same_bits():
     """The elastic kernels call these functions compiled by numba: same results, bit for bit."""
-    assert jit.enabled(), "the test environment has numba (the 'fast' extra)"
-    import numba
-
-    @numba.njit
-    def compiled(m1, m2, w1, w2, c1, c2):
-        return (one_contact(m1, w1, c1, 0.0), pair_contact(m1, m2, w1, w2, c2),
-                two_contacts(m1, m2, w1, w2, c1, c2, 0.0))
-
-    for m1, m2, w1, w2, c1, c2 in _cases(3000, seed=13):
+    compiled = _compiled()[0]
+    for m1, m2, w1, w2, c1, c2 in list(cases(3000, seed=13)) + list(boundary_cases(1000, 14)):
         plain = (one_contact(m1, w1, c1, 0.0), pair_contact(m1, m2, w1, w2, c2),
                  two_contacts(m1, m2, w1, w2, c1, c2, 0.0))
         assert compiled(m1, m2, w1, w2, c1, c2) == plain

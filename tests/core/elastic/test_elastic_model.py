@@ -107,20 +107,23 @@ h = 3 * model.grid.h_max
 for i in range(300):
     model.advance(23000.0 if i % 50 < 20 else -2000.0, h)
 state = model.get_state()
-print(json.dumps({"jit": jit.enabled(), **{k: (v.tolist() if hasattr(v, "tolist") else v)
-                                          for k, v in state.items()}}))
+print(json.dumps({"jit": jit.enabled(), "vectorised": model.vectorised,
+                  "numba_imported": "numba" in sys.modules,
+                  **{k: (v.tolist() if hasattr(v, "tolist") else v) for k, v in state.items()}}))
 """
 
 
-def test_pure_python_path_gives_the_compiled_results():
-    """The same kernel source run as plain Python (PIPEPLUG_NO_JIT=1, in a fresh process)
-    gives the numbers of this process's path (compiled when numba is installed), bit for bit."""
+def test_path_without_numba_gives_the_compiled_results():
+    """Without numba (PIPEPLUG_NO_JIT=1, in a fresh process, which then never imports numba)
+    the model steps with whole-array numpy operations and gives the numbers of this process's
+    path (compiled when numba is installed), bit for bit."""
     params = dict(tau1=3e4, tau2=2e4, L2=0.6, dx=0.05, x_monitor=0.3)
     env = dict(os.environ, PIPEPLUG_NO_JIT="1")
     done = subprocess.run([sys.executable, "-c", _PURE_PROBE, json.dumps(params)], env=env,
                           check=True, capture_output=True, text=True)
     other = json.loads(done.stdout)
-    assert other.pop("jit") is False
+    assert other.pop("jit") is False and other.pop("vectorised") is True
+    assert other.pop("numba_imported") is False
     assert jit.enabled() == (importlib.util.find_spec("numba") is not None)
     model = elastic(params, growth=True)
     h = 3 * model.grid.h_max

@@ -91,8 +91,10 @@ def test_the_compiled_path_is_taken_when_numba_is_enabled():
 @pytest.mark.parametrize("seed", range(CASES))
 def test_compiled_and_python_paths_agree(seed):
     case = _random_case(np.random.default_rng(seed))
-    stepped = [_stepped(*case, compiled)[0] for compiled in (False, True)]
+    runs = [_stepped(*case, compiled) for compiled in (False, True)]
+    stepped = [rows for rows, _ in runs]
     _assert_close(*stepped)
+    assert runs[0][1].modes() == runs[1][1].modes()
     dense = [_dense(*case, compiled) for compiled in (False, True)]
     _assert_close(*dense)
     _assert_close(dense[0], stepped[0])      # dense output is stepping, sampled
@@ -105,8 +107,9 @@ def test_a_state_moves_between_the_paths(seed):
     half = len(grid) // 2
     _, python = _stepped(params, options, segments, grid[:half + 1], False)
     _, compiled = _stepped(params, options, segments, grid[:half + 1], True)
+    state, other = python.get_state(), compiled.get_state()
+    assert np.array_equal(state.pop("modes"), other.pop("modes")) and state == other
     state = python.get_state()
-    assert state == compiled.get_state()
     compiled.set_state(state)
     python.set_state(state)
     for a, b in zip(grid[half:-1], grid[half + 1:]):
@@ -114,6 +117,25 @@ def test_a_state_moves_between_the_paths(seed):
         python.advance_to(q, b)
         compiled.advance_to(q, b)
         assert python.outputs() == compiled.outputs()
+    assert python.modes() == compiled.modes()
+
+
+@pytest.mark.parametrize("compiled", [False, True], ids=["python", "compiled"])
+def test_modes_of_many_blows_are_logged_completely(compiled):
+    """Twenty blows of the paper's domain I (23 kN for 50 ms from rest, tau1 = 20 kPa,
+    tau2 = 10 kPa) each go through its four modes: 80 pieces of modes, more than the solver
+    logs between two takings, stepped and through dense output alike."""
+    expected = ((1, 1), (1, -1), (0, -1), (0, 0)) * 20
+    period, edges = 0.5, np.arange(20) * 0.5
+    grid = np.union1d(np.linspace(0.0, 20 * period, 4001)[1:], np.r_[edges, edges + 0.05][1:])
+    loads = np.where((grid - 1e-12) % period < 0.05, 23e3, 0.0)     # over the step ending there
+    stepped = build_model({"tau1": 2e4, "tau2": 1e4}, compiled=compiled)
+    for q, t in zip(loads, grid):
+        stepped.advance_to(q, t)
+    dense = build_model({"tau1": 2e4, "tau2": 1e4}, compiled=compiled)
+    out = dense.sample(loads, grid)
+    assert stepped.modes() == expected and dense.modes() == expected
+    assert out["u_pipe"][-1] == stepped.outputs().u_pipe
 
 
 _PLAIN_RUNS = """

@@ -196,3 +196,25 @@ def test_fig4_and_fig6a_velocities_level_at_u_double_star(ratio, level, taus):
         o = m.outputs()
         assert o.v_pipe == pytest.approx(level, abs=0.005)
         assert o.v_plug == pytest.approx(o.v_pipe, abs=1e-9 * level)
+
+
+@pytest.mark.parametrize("tau1, tau2, domain, expected", [
+    (2e4, 1e4, "I", ((1, 1), (1, -1), (0, -1), (0, 0))),
+    (2e4, 2e4, "II", ((1, 1), (1, 0), (0, 0))),
+    (7e4, 3.5e4, "III", ((1, 0), (1, -1), (0, -1), (0, 0))),
+    (6.5e4, 6.5e4, "IV", ((1, 0), (0, 0))),
+    (1e5, 1e4, "V", ((0, 0),)),
+])
+@pytest.mark.parametrize("compiled", [False, True], ids=["python", "compiled"])
+def test_modes_are_the_paper_s_domain_sequences(tau1, tau2, domain, expected, compiled):
+    """The paper's section 1, rectangular pulse 23 kN for 50 ms: I both slide, the plug overtakes
+    after t1, the pipe stops, then the plug; II both slide, stick, stop together; III move
+    together, the plug overtakes after t0, the pipe stops, then the plug; IV together to the
+    stop; V nothing moves. (pipe_mode, plug_mode) = (sign U1', sign(U1' - U2'))."""
+    m = build_model({"tau1": tau1, "tau2": tau2}, compiled=compiled)
+    m.advance(23e3, 0.05)
+    m.advance(0.0, 1.0)
+    assert m.modes() == expected, domain
+    restored = build_model({"tau1": tau1, "tau2": tau2}, compiled=compiled)
+    restored.set_state(m.get_state())
+    assert restored.modes() == expected

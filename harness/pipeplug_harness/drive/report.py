@@ -1,0 +1,74 @@
+"""What a drive writes: the per-blow CSV, the drivability counts and the summary line."""
+from __future__ import annotations
+
+import csv
+import math
+from dataclasses import astuple, fields
+from pathlib import Path
+
+import numpy as np
+
+from .run import OUTCOMES, Blow, DriveResult
+
+__all__ = ["write_csv", "blows_per_interval", "summary", "INTERVAL", "COLUMNS"]
+
+#: Penetration interval of the drivability curve [m].
+INTERVAL = 0.25
+
+#: CSV column -> unit
+COLUMNS = {"blow": "-", "t_start": "s", "set": "m", "penetration": "m", "v_pipe_peak": "m/s",
+           "v_plug_peak": "m/s", "W_input": "J", "W_friction_outer": "J",
+           "W_friction_inner": "J", "v_pipe_end": "m/s", "v_plug_end": "m/s", "settled": "-",
+           "motion": "s", "steps": "-"}
+assert tuple(COLUMNS) == tuple(f.name for f in fields(Blow))
+
+
+def write_csv(path: Path, result: DriveResult) -> None:
+    """One row per blow; works are the blow's own (its window's increments)."""
+    with open(path, "w", newline="") as fh:
+        writer = csv.writer(fh)
+        writer.writerow([f"{name} [{unit}]" if unit != "-" else name
+                         for name, unit in COLUMNS.items()])
+        for blow in result.blows:
+            writer.writerow([repr(v) if isinstance(v, float) else v for v in astuple(blow)])
+
+
+def blows_per_interval(result: DriveResult, width: float = INTERVAL):
+    """Blows per penetration interval: the blow counts whose final penetration falls in
+    [j w, (j+1) w).
+
+    Returns
+    -------
+    starts : ndarray
+        Interval starts [m].
+    counts : ndarray of int
+        Blows ending in each interval; the last interval is partial when the drive stopped
+        inside it.
+    """
+    depth = np.array([b.penetration for b in result.blows])
+    if depth.size == 0:
+        return np.zeros(0), np.zeros(0, dtype=int)
+    index = np.floor(np.maximum(depth, 0.0) / width).astype(int)
+    counts = np.bincount(index)
+    return np.arange(counts.size) * width, counts
+
+
+def summary(result: DriveResult) -> str:
+    """The one-line summary: blows, drive time at the blow rate, refusal or not, and where."""
+    spec = result.spec
+    n = len(result.blows)
+    rate = 60.0 / spec.period
+    line = (f"{spec.name}: {n} blows, drive time {_duration(result.drive_time)} at "
+            f"{rate:.4g} blows/min; {OUTCOMES[result.outcome]}")
+    if result.outcome == "set":
+        line += f" ({spec.refusal_text()})"
+    return line + f" at penetration {result.penetration:.6g} m (target {spec.target:.6g} m)"
+
+
+def _duration(seconds: float) -> str:
+    """``1 h 02 min 03 s`` style."""
+    if seconds < 60.0:
+        return f"{seconds:.3g} s"
+    minutes, s = divmod(int(math.floor(seconds + 0.5)), 60)
+    h, m = divmod(minutes, 60)
+    return f"{h} h {m:02d} min {s:02d} s" if h else f"{m} min {s:02d} s"

@@ -1,0 +1,192 @@
+"""A whole drive through one FMU instance: blow after blow until the target or refusal.
+
+Blow ``k`` (from 0) acts from ``t_k = k * period`` to ``t_k + duration``; its window ends where
+the next blow starts, so the drive takes ``blows * period``. The blow's edges are communication
+points (the FMU holds Q constant over a step). Inside the window the FMU is stepped:
+
+* in steps of at most ``step`` while the blow acts and for a while after it (the blow's
+  duration in the rigid model, a wave round trip 2 L1 / c1 in the elastic one), so that the
+  peak velocities are seen (they are the largest values at the communication points). In the
+  elastic model these steps are a whole number of its internal steps (``step`` rounded down,
+  one at least): the FMU splits a communication step into equal internal steps no longer than
+  courant dx / c, and on such steps the waves travel at the Courant number asked for (1: exact
+  transport) instead of a smaller one;
+* then, while the pipe still moves, in steps doubling in length;
+* then in one step to the next blow, as soon as the motion has died out: ``at_rest`` (a step
+  under Q = 0 leaves the whole state unchanged, so the model skips it without internal steps),
+  or, in the elastic model, the front end and the plug beside it standing still for a wave
+  round trip. The undamped elastic model rarely reaches ``at_rest`` before the whole pipe is in
+  the soil: the part outside has no friction, and waves too small to slip the first cell in the
+  soil ring in it for ever. The FMU still integrates them in that step.
+
+The state is never reset: every blow starts from the state the previous one left.
+
+Stopping (checked after each blow, in this order): the front end has gone in by ``target``;
+the blow did not move the front end at all (its set is exactly 0: static friction held it); the
+last ``refusal_count`` blows advanced it by less than ``refusal_length`` in all; ``max_blows``.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import NamedTuple
+
+from .file import DriveSpec
+from .session import FmuSession, Reading
+
+__all__ = ["Blow", "DriveResult", "run_drive", "OUTCOMES"]
+
+#: outcome -> what it means (the summary's words)
+OUTCOMES = {
+    "target": "target reached",
+    "static": "refusal: a blow did not move the pipe (static friction)",
+    "set": "refusal: set below the threshold",
+    "max_blows": "stopped at max_blows, no refusal",
+}
+
+_ZERO = Reading(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, True)   # the state at t = 0
+
+
+@dataclass
+class Blow:
+    """One blow's record: increments over its window, peaks, and the state at its end (SI)."""
+
+    blow: int                 #: 1, 2, ...
+    t_start: float            #: [s]
+    set: float                #: penetration gained over the window [m]
+    penetration: float        #: front-end displacement at the window's end [m]
+    v_pipe_peak: float        #: largest pipe velocity at the window's points [m/s]
+    v_plug_peak: float        #: largest plug velocity at the window's points [m/s]
+    W_input: float            #: work of Q over the window [J]
+    W_friction_outer: float   #: [J]
+    W_friction_inner: float   #: [J]
+    v_pipe_end: float         #: [m/s]
+    v_plug_end: float         #: [m/s]
+    settled: str              #: "rest" (at_rest), "front" (front end still) or "moving"
+    motion: float             #: from the blow's start until its motion died out (settled) [s]
+    steps: int                #: communication steps of the window
+
+
+@dataclass
+class DriveResult:
+    spec: DriveSpec
+    blows: list = field(default_factory=list)
+    outcome: str = ""
+    steps: int = 0            #: communication steps of the whole drive
+
+    @property
+    def penetration(self) -> float:
+        return self.blows[-1].penetration if self.blows else 0.0
+
+    @property
+    def drive_time(self) -> float:
+        """Drive time at the blow rate [s]: blows x period."""
+        return len(self.blows) * self.spec.period
+
+
+def run_drive(spec: DriveSpec, fmu) -> DriveResult:
+    """Drive the pipe blow by blow through one instance of the FMU ``fmu``."""
+    result = DriveResult(spec)
+    pace = _pace(spec)
+    with FmuSession(fmu, spec.start_values) as fmu_session:
+        before = _ZERO
+        for k in range(spec.max_blows):
+            blow, before = _blow(fmu_session, spec, k, before, pace)
+            result.blows.append(blow)
+            result.outcome = _verdict(spec, result.blows)
+            if result.outcome:
+                break
+        else:
+            result.outcome = "max_blows"
+        result.steps = fmu_session.steps
+    return result
+
+
+class _Pace(NamedTuple):
+    step: float      #: the fine communication step [s]
+    fine: float      #: fine steps for this long after the blow [s]
+    settle: float    #: the front end still this long: the motion has died out [s]
+    grain: float     #: the elastic model's internal step [s] (0: rigid)
+
+
+def _pace(spec: DriveSpec) -> _Pace:
+    if not spec.elastic:
+        return _Pace(spec.step, spec.duration, math.inf, 0.0)
+    from pipeplug.elastic.grid import build_grid
+    p = spec.params()
+    grain = build_grid(p).h_max
+    round_trip = 2.0 * p.L1 / p.c1
+    return _Pace(grain * max(1, math.floor(spec.step / grain + 1e-9)), round_trip, round_trip,
+                 grain)
+
+
+def _blow_points(t0: float, duration: float, pace: _Pace) -> list:
+    """The communication points of a blow after ``t0``, its end last.
+
+    Rigid: equal steps of at most ``pace.step``. Elastic: steps of ``pace.step``, a whole
+    number of internal steps (so that waves travel at the Courant number asked for), and the
+    remainder.
+    """
+    t_end = t0 + duration
+    if not pace.grain:
+        n = max(1, math.ceil(duration / pace.step - 1e-9))
+        return [t0 + duration * i / n for i in range(1, n)] + [t_end]
+    m = math.floor(duration / pace.step + 1e-9)
+    points = [t0 + i * pace.step for i in range(1, m + 1)]
+    if points and t_end - points[-1] <= 1e-9 * pace.step:
+        points[-1] = t_end
+    else:
+        points.append(t_end)
+    return points
+
+
+def _blow(s: FmuSession, spec: DriveSpec, k: int, before: Reading,
+          pace: _Pace) -> tuple[Blow, Reading]:
+    """Blow ``k`` and the motion after it, up to the next blow's start."""
+    t0, h, t_next = k * spec.period, pace.step, (k + 1) * spec.period
+    steps0 = s.steps
+    peaks = [before.v_pipe, before.v_plug]
+    t = t0
+    for tb in _blow_points(t0, spec.duration, pace):
+        out = s.step(t, tb - t, spec.amplitude)
+        t = tb
+        _raise(peaks, out)
+    settled, motion, still_since, fine_until = "moving", spec.period, None, t + pace.fine
+    while t < t_next:
+        if out.at_rest or (still_since is not None and t - still_since >= pace.settle):
+            settled, motion = ("rest", t - t0) if out.at_rest else ("front", still_since - t0)
+            out = s.step(t, t_next - t, 0.0)          # no internal steps when at rest
+            break
+        if t >= fine_until:
+            h *= 2.0
+        tb = t + h if t_next - (t + h) > 0.5 * h else t_next
+        out = s.step(t, tb - t, 0.0)
+        t = tb
+        if out.v_pipe == 0.0 and out.v_plug == 0.0:
+            still_since = t if still_since is None else still_since
+        else:
+            still_since = None
+        _raise(peaks, out)
+    blow = Blow(k + 1, t0, out.u_pipe - before.u_pipe, out.u_pipe, peaks[0], peaks[1],
+                out.W_input - before.W_input, out.W_friction_outer - before.W_friction_outer,
+                out.W_friction_inner - before.W_friction_inner, out.v_pipe, out.v_plug,
+                settled, motion, s.steps - steps0)
+    return blow, out
+
+
+def _raise(peaks: list, out: Reading) -> None:
+    peaks[0] = max(peaks[0], out.v_pipe)
+    peaks[1] = max(peaks[1], out.v_plug)
+
+
+def _verdict(spec: DriveSpec, blows: list) -> str:
+    """The outcome after the last blow, or "" to go on."""
+    last = blows[-1]
+    if last.penetration >= spec.target:
+        return "target"
+    if last.set == 0.0:
+        return "static"
+    n = spec.refusal_count
+    if len(blows) >= n and sum(b.set for b in blows[-n:]) < spec.refusal_length:
+        return "set"
+    return ""

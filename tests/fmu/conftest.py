@@ -1,0 +1,21 @@
+"""Fixtures of the FMU tests: the plain C host, compiled once per test process."""
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import pytest
+from fmi_c_host import compile_host, host_env
+
+
+@pytest.fixture(scope="session")
+def c_host(tmp_path_factory) -> Path:
+    """``fmi_host.c`` compiled (plain C: no libpython in it)."""
+    return compile_host(tmp_path_factory.mktemp("c_host") / "fmi_host")
+
+
+@pytest.fixture
+def c_host_env() -> dict:
+    """An environment naming this test run's Python (which has numpy) in PIPEPLUG_PYTHON, with
+    no PYTHON* variable (nothing preloaded, no PYTHONPATH)."""
+    return host_env(PIPEPLUG_PYTHON=sys.executable)
