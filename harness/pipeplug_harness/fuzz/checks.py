@@ -52,6 +52,9 @@ CHECKS: dict[str, Check] = {
                                   "P1 tau1 Lc(u)) / (that limit + |Q| + F2)"),
     "at rest": Check(0.0, "points where at_rest holds but a velocity is not 0 or a step "
                           "under Q = 0 changes an output"),
+    "paths": Check(1e-15, "every core path vs the first on every grid (the compiled and the "
+                          "plain exact solver are one source): largest |difference| / scale "
+                          "over all outputs"),
     "fmu": Check(1e-12, "FMU vs the core on the host's own points: largest |difference| / "
                         "scale over all outputs"),
     "fd bound": Check(FD_C, "fd vs exact: largest |error| / (dt x R x G) over dt, dt/2, "

@@ -71,8 +71,13 @@ def run_case(case: Case, setup: Setup = Setup()) -> CaseResult:
     ref = None
     if "reference" in case.checks or "fd" in case.checks:
         ref = _guarded(result, "reference", _reference, case, setup)
-    for path in setup.paths:
-        _guarded(result, path, _core, case, CORE_PATHS[path], path, body, ref, result)
+    runs = {path: _guarded(result, path, _core, case, CORE_PATHS[path], path, body, ref, result)
+            for path in setup.paths}
+    first = setup.paths[0] if setup.paths else None
+    for path, rows in runs.items():
+        if path != first and rows is not None and runs[first] is not None:
+            result.put("paths", path, max(ck.same_outputs_error(a, b)
+                                          for a, b in zip(rows, runs[first])))
     if "fmu" in case.checks and setup.fmu:
         for style in HOST_STYLES:
             _guarded(result, f"fmu {style}", _fmu, case, setup, style, ref, result)
@@ -104,12 +109,14 @@ def _reference(case: Case, setup: Setup) -> tuple[np.ndarray, dict]:
     return times, run_reference(case, times)
 
 
-def _core(case: Case, builder, path: str, body, ref, result: CaseResult) -> None:
-    """All grids of the case on one core path: invariants, grid independence, reference."""
-    at_samples = []
+def _core(case: Case, builder, path: str, body, ref, result: CaseResult) -> list:
+    """All grids of the case on one core path: invariants, grid independence, reference.
+    Returns the outputs on each grid (rows of :data:`pipeplug.OUTPUT_NAMES`)."""
+    at_samples, runs = [], []
     for name in GRIDS:
         grid = np.asarray(case.grids[name])
         rows, rest = run_grid(builder, case, grid, probe_rest=(name == "coarse"))
+        runs.append(rows)
         loads = loads_on(case.segments, grid[:-1])
         result.put("energy", path, ck.energy_error(rows, body))
         result.put("friction work", path, ck.friction_decrease(rows))
@@ -120,6 +127,7 @@ def _core(case: Case, builder, path: str, body, ref, result: CaseResult) -> None
         if ref is not None:
             _compare(result, path, rows, grid[1:], ref, case.stop)
     result.put("grid", path, ck.grid_error(at_samples))
+    return runs
 
 
 def _compare(result: CaseResult, subject: str, rows, times, ref, stop: float) -> None:

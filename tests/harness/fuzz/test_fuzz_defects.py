@@ -119,3 +119,13 @@ def test_a_saved_failure_replays(monkeypatch, tmp_path, capsys):
     assert replay(str(files[0])) == 1                       # on the file's (defective) path
     assert "FAILED" in capsys.readouterr().out
     assert replay(str(files[0]), Setup(("python",)), paths_given=True) == 0   # the core's
+
+
+def test_a_path_that_differs_from_the_first_by_rounding_fails_the_paths_check(monkeypatch):
+    """A second path off by a few ulps (far below every other check's tolerance) is caught."""
+    nudged = skewed(lambda out, m: out._replace(u_pipe=out.u_pipe * (1.0 + 4e-15)))
+    monkeypatch.setitem(CORE_PATHS, "defect", nudged)
+    summary, _ = fuzz(4, range(20), Plan(0, 0, 0), Setup(("python", "defect")), progress=None)
+    assert _failed(summary, "paths") >= 3
+    assert _failed(summary, "paths", "python") == 0
+    assert all(_failed(summary, check) == 0 for check in INVARIANTS)
