@@ -17,8 +17,11 @@ machine. Printed per run: wall time, communication steps, how each blow's motion
 ``at_rest``, so the FMU skipped to the next blow at no cost; front: the front end stood still while
 waves rang on in the free part; moving: still moving at the next blow), and for the elastic drive
 the internal steps the FMU had to take (blows x period / internal step), the time per cell and
-internal step, and how many of the internal steps fell while the front end still moved (the
-cost of the drive if the rest of each window were skipped as at rest).
+internal step, how many of the internal steps fell while the front end still moved (the
+cost of the drive if the rest of each window were skipped as at rest), and the friction work
+dissipated after the front end had stopped (``ringing_friction`` of the blows): where it is not 0,
+contacts still slipped in the ringing, so the rest of the window is no lossless vibration whose
+course could be skipped exactly.
 """
 from __future__ import annotations
 
@@ -71,6 +74,9 @@ def report(case: str, seconds: float, result) -> str:
                  f"{seconds / (internal * cells) * 1e9:.3g} ns per cell and step (all costs); "
                  f"{moving / 1e6:.3g} M of them while the front end moved (mean "
                  f"{1e3 * moving * grid.h_max / len(result.blows):.3g} ms per blow)")
+        ringing = [b.ringing_friction for b in result.blows]
+        line += (f"\n         friction work after the front end stopped: {sum(ringing):.3g} J, "
+                 f"> 0 in {sum(w > 0.0 for w in ringing)} of {len(ringing)} blows")
     return line
 
 

@@ -19,7 +19,7 @@ INTERVAL = 0.25
 COLUMNS = {"blow": "-", "t_start": "s", "set": "m", "penetration": "m", "v_pipe_peak": "m/s",
            "v_plug_peak": "m/s", "W_input": "J", "W_friction_outer": "J",
            "W_friction_inner": "J", "v_pipe_end": "m/s", "v_plug_end": "m/s", "settled": "-",
-           "motion": "s", "steps": "-"}
+           "motion": "s", "steps": "-", "ringing_friction": "J"}
 assert tuple(COLUMNS) == tuple(f.name for f in fields(Blow))
 
 

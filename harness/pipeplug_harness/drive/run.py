@@ -16,8 +16,9 @@ points (the FMU holds Q constant over a step). Inside the window the FMU is step
   under Q = 0 leaves the whole state unchanged, so the model skips it without internal steps),
   or, in the elastic model, the front end and the plug beside it standing still for a wave
   round trip. The undamped elastic model rarely reaches ``at_rest`` before the whole pipe is in
-  the soil: the part outside has no friction, and waves too small to slip the first cell in the
-  soil ring in it for ever. The FMU still integrates them in that step.
+  the soil: waves ring on in the part outside it (the pipe, with the plug stuck to it if the plug
+  reaches there) and keep slipping a few cells of the pipe in the soil. The FMU still integrates
+  them in that step; ``ringing_friction`` records the friction work they dissipate.
 
 The state is never reset: every blow starts from the state the previous one left.
 
@@ -65,6 +66,8 @@ class Blow:
     settled: str              #: "rest" (at_rest), "front" (front end still) or "moving"
     motion: float             #: from the blow's start until its motion died out (settled) [s]
     steps: int                #: communication steps of the window
+    ringing_friction: float   #: friction work [J] dissipated after the front end stopped for
+                              #: good (0 when it still moved at the window's end)
 
 
 @dataclass
@@ -152,6 +155,7 @@ def _blow(s: FmuSession, spec: DriveSpec, k: int, before: Reading,
         t = tb
         _raise(peaks, out)
     settled, motion, still_since, fine_until = "moving", spec.period, None, t + pace.fine
+    w_still = 0.0                                     # friction work when the front end stopped
     while t < t_next:
         if out.at_rest or (still_since is not None and t - still_since >= pace.settle):
             settled, motion = ("rest", t - t0) if out.at_rest else ("front", still_since - t0)
@@ -163,15 +167,22 @@ def _blow(s: FmuSession, spec: DriveSpec, k: int, before: Reading,
         out = s.step(t, tb - t, 0.0)
         t = tb
         if out.v_pipe == 0.0 and out.v_plug == 0.0:
-            still_since = t if still_since is None else still_since
+            if still_since is None:
+                still_since, w_still = t, _friction(out)
         else:
             still_since = None
         _raise(peaks, out)
     blow = Blow(k + 1, t0, out.u_pipe - before.u_pipe, out.u_pipe, peaks[0], peaks[1],
                 out.W_input - before.W_input, out.W_friction_outer - before.W_friction_outer,
                 out.W_friction_inner - before.W_friction_inner, out.v_pipe, out.v_plug,
-                settled, motion, s.steps - steps0)
+                settled, motion, s.steps - steps0,
+                0.0 if still_since is None else _friction(out) - w_still)
     return blow, out
+
+
+def _friction(out: Reading) -> float:
+    """Friction work dissipated since t = 0 [J]."""
+    return out.W_friction_outer + out.W_friction_inner
 
 
 def _raise(peaks: list, out: Reading) -> None:

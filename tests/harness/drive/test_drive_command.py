@@ -30,6 +30,9 @@ def test_an_elastic_drive_reaches_its_target(pipeplug_cli, fmu_file, tmp_path):
     assert sum(sets) == pytest.approx(penetration[-1], rel=1e-12)
     assert all(float(r["W_input [J]"]) > 0.0 for r in rows)
     assert all(r["settled"] in ("rest", "front", "moving") for r in rows)
+    for r in rows:      # the friction work after the front end stopped is part of the window's
+        window = float(r["W_friction_outer [J]"]) + float(r["W_friction_inner [J]"])
+        assert 0.0 <= float(r["ringing_friction [J]"]) <= window * (1.0 + 1e-12)
     for name in ("el_penetration.png", "el_drivability.png"):
         assert (tmp_path / "o" / name).stat().st_size > 10_000
 
