@@ -147,7 +147,8 @@ def simulate_pulse(fmu_dir, cases, q0, t0, stop, interval):
         res = simulate_fmu(fmu_dir, start_time=0.0, stop_time=stop, output_interval=interval,
                            input=signal, start_values=params, fmi_type="CoSimulation")
         runs.append({name: res[name].tolist() for name in res.dtype.names})
-    return {"runs": runs}
+    import sys
+    return {"runs": runs, "numba_loaded": "numba" in sys.modules}
 
 
 def host_clock(fmu_dir, params, q0, t0, h, n_steps, clock):

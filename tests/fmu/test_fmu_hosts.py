@@ -24,6 +24,8 @@ def test_simulate_fmu_pulse_matches_closed_form(fmu_dir):
         assert time[-1] == STOP, f"{name}: the run stopped early at {time[-1]}"
         assert len(time) == 301, name
         assert_matches_closed_form(run, time, case)
+    # the rigid models run as plain Python in the FMU: numba's import would cost more than it saves
+    assert result["numba_loaded"] is False
 
 
 def _fmpy_command() -> list:
