@@ -32,6 +32,10 @@ SUBCOMMANDS = {
     "system": ("pipeplug_harness.system.command", "cosim",
                "run a co-simulated system (SSP or OSP file, e.g. dist/PipeRamming.ssp: Hammer "
                "driving PipePlug) with libcosim, every parameter checked first; CSV and PNG"),
+    "sweep": ("pipeplug_harness.sweep.command", "dask",
+              "run a sweep (TOML: a grid or random sample of single blows or whole drives) "
+              "through the core on a Dask cluster (this machine by default); Parquet out, "
+              "resumable; reports: the paper's Fig. 2 domains, probabilistic drivability"),
 }
 
 
