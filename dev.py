@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Set up the project and run its two jobs; needs only Python >= 3.10 and the package registries.
 
-    python dev.py          the main job: set up .venv, build dist/PipePlug.fmu, validate it
-                           against the analytic solutions and print the table
+    python dev.py          the main job: set up .venv, build dist/ (the FMUs and system files),
+                           validate PipePlug.fmu against the analytic solutions, print the table
     python dev.py test     the linters (ruff, the import contracts), then the whole test suite
 
 The virtual environment is made in ``.venv`` beside this file and (re)installed whenever

@@ -46,3 +46,10 @@ def test_fmu_builds_from_an_installed_wheel_in_a_fresh_environment(tmp_path):
                            text=True, cwd=tmp_path, check=False)
     assert probe.returncode == 0, probe.stderr[-3000:]
     assert probe.stdout.startswith("OK 0.01")
+    # The command line works without the harness extra, and names the extra a subcommand needs.
+    pipeplug = env_dir / "bin" / "pipeplug"
+    overview = subprocess.run([str(pipeplug), "--help"], capture_output=True, text=True,
+                              check=False)
+    assert overview.returncode == 0 and "validate" in overview.stdout, overview.stderr
+    cost = subprocess.run([str(pipeplug), "cost"], capture_output=True, text=True, check=False)
+    assert cost.returncode == 2 and "pip install 'pipeplug[harness]'" in cost.stderr, cost.stderr
