@@ -1,10 +1,14 @@
-"""The engine of campaigns (sweeps, fuzz runs): chunks of cases on a Dask cluster, written as
+"""The engine of campaigns (sweeps, fuzz runs): chunks of cases on a Dask cluster, collected as
 they finish.
 
-A campaign is any object with ``name``, ``digest``, ``n_chunks``, ``chunk_cases(c)`` (cases in
-chunk ``c``) and ``run_chunk(c) -> pyarrow.Table``, a pure function of the chunk's number. The
-engine submits the chunks not yet in the output folder, and the client writes each chunk's
-table as it arrives (:class:`~.store.ChunkStore`: whole or not at all), so:
+A campaign is any object with ``name``, ``n_chunks``, ``chunk_cases(c)`` (cases in chunk ``c``)
+and ``run_chunk(c)``, a pure function of the chunk's number (cases generated where they run,
+from the campaign and their indices: only chunk numbers and results travel). The campaign is
+sent to each worker once. :func:`map_chunks` runs chunks and hands each result to a collector
+in this process (a fuzz run's summary); :func:`run_campaign` collects into an output folder:
+``run_chunk`` gives a ``pyarrow.Table``, the campaign has a ``digest``, and the engine submits
+the chunks not yet in the folder and the client writes each chunk's table as it arrives
+(:class:`~.store.ChunkStore`: whole or not at all), so:
 
 * a rerun skips the finished chunks;
 * a worker that dies loses nothing: Dask runs its unfinished chunks again on another worker,
@@ -22,57 +26,62 @@ from dataclasses import dataclass, field
 
 from .store import ChunkStore
 
-__all__ = ["run_campaign", "CampaignRun"]
+__all__ = ["map_chunks", "run_campaign", "ChunkRun", "CampaignRun"]
 
 
 @dataclass
-class CampaignRun:
-    """What a run did."""
+class ChunkRun:
+    """What a run of chunks did."""
 
     chunks: int                     #: chunks of the campaign
-    skipped: int = 0                #: already in the folder
-    written: int = 0
+    skipped: int = 0                #: already done (not run)
+    written: int = 0                #: chunks run and collected now
     cases: int = 0                  #: cases run now
     failed: dict = field(default_factory=dict)    #: chunk -> error text
-    seconds: float = 0.0            #: wall time of the run (submission to last write)
+    seconds: float = 0.0            #: wall time (submission to the last result collected)
 
     @property
     def complete(self) -> bool:
         return self.skipped + self.written == self.chunks
 
 
+#: the record of :func:`run_campaign`
+CampaignRun = ChunkRun
+
+
 def _run(campaign, c: int):
     return campaign.run_chunk(c)
 
 
-def run_campaign(campaign, out, client, *, fresh: bool = False, progress: bool = True,
-                 on_chunk=None, about: dict | None = None) -> CampaignRun:
-    """Run the campaign's missing chunks on ``client``'s cluster into the folder ``out``.
+def map_chunks(campaign, chunks, client, collect, *, progress: bool = True,
+               on_chunk=None, skipped: int = 0) -> ChunkRun:
+    """Run ``campaign.run_chunk(c)`` for each of ``chunks`` on ``client``'s cluster and hand
+    each result to ``collect(c, result)`` in this process, in the order they finish.
 
     Parameters
     ----------
     campaign : object
-        See the module docstring.
-    out : path
-        The output folder (:class:`~.store.ChunkStore`).
+        ``name``, ``n_chunks``, ``chunk_cases(c)``, ``run_chunk(c)`` (see the module
+        docstring); sent to every worker once.
+    chunks : sequence of int
+        The chunks to run.
     client : distributed.Client
-    fresh : bool
-        Start afresh: drop what the folder holds.
+    collect : callable
+        ``collect(c, result)``: e.g. write the chunk, or add it to a summary.
     progress : bool
         Show a progress bar (tqdm, on standard error) counting cases.
     on_chunk : callable, optional
-        ``on_chunk(c, run)`` after chunk ``c`` is written.
-    about : dict, optional
-        Written into the folder's manifest (e.g. the campaign's file).
+        ``on_chunk(c, run)`` after chunk ``c`` is collected.
+    skipped : int
+        Chunks done before (counted in the bar and the record).
     """
     from distributed import as_completed
     from tqdm import tqdm
-    store = ChunkStore(out, campaign.digest, campaign.n_chunks, fresh=fresh, about=about)
-    todo = [c for c in range(campaign.n_chunks) if not store.done(c)]
-    run = CampaignRun(campaign.n_chunks, skipped=campaign.n_chunks - len(todo))
+    run = ChunkRun(campaign.n_chunks, skipped=skipped)
+    todo = list(chunks)
     total = sum(campaign.chunk_cases(c) for c in range(campaign.n_chunks))
     bar = tqdm(total=total, initial=total - sum(campaign.chunk_cases(c) for c in todo),
-               unit="case", desc=campaign.name, disable=not progress, smoothing=0.1)
+               unit="case", desc=campaign.name, disable=not progress, mininterval=1.0)
     start = time.perf_counter()
     if todo:
         shared = client.scatter(campaign, broadcast=True, hash=False)
@@ -84,7 +93,7 @@ def run_campaign(campaign, out, client, *, fresh: bool = False, progress: bool =
             if future.status == "error":
                 run.failed[c] = repr(future.exception())
             else:
-                store.write(c, future.result())
+                collect(c, future.result())
                 run.written += 1
                 run.cases += campaign.chunk_cases(c)
                 bar.update(campaign.chunk_cases(c))
@@ -94,3 +103,28 @@ def run_campaign(campaign, out, client, *, fresh: bool = False, progress: bool =
     bar.close()
     run.seconds = time.perf_counter() - start
     return run
+
+
+def run_campaign(campaign, out, client, *, fresh: bool = False, progress: bool = True,
+                 on_chunk=None, about: dict | None = None) -> ChunkRun:
+    """Run the campaign's chunks missing from the folder ``out`` on ``client``'s cluster,
+    writing each as it arrives.
+
+    Parameters
+    ----------
+    campaign : object
+        See the module docstring (also ``digest``: what the folder must hold).
+    out : path
+        The output folder (:class:`~.store.ChunkStore`).
+    client : distributed.Client
+    fresh : bool
+        Start afresh: drop what the folder holds.
+    progress, on_chunk
+        As for :func:`map_chunks`.
+    about : dict, optional
+        Written into the folder's manifest (e.g. the campaign's file).
+    """
+    store = ChunkStore(out, campaign.digest, campaign.n_chunks, fresh=fresh, about=about)
+    todo = [c for c in range(campaign.n_chunks) if not store.done(c)]
+    return map_chunks(campaign, todo, client, store.write, progress=progress,
+                      on_chunk=on_chunk, skipped=campaign.n_chunks - len(todo))
