@@ -32,6 +32,9 @@ SUBCOMMANDS = {
     "system": ("pipeplug_harness.system.command", "cosim",
                "run a co-simulated system (SSP or OSP file, e.g. dist/PipeRamming.ssp: Hammer "
                "driving PipePlug) with libcosim, every parameter checked first; CSV and PNG"),
+    "fuzz": ("pipeplug_harness.fuzz.command", "harness",
+             "differential fuzzing of the rigid models: random cases through the core, the "
+             "reference, the FMU and the fd scheme; invariants, summary, replayable failures"),
     "sweep": ("pipeplug_harness.sweep.command", "dask",
               "run a sweep (TOML: a grid or random sample of single blows or whole drives) "
               "through the core on a Dask cluster (this machine by default); Parquet out, "

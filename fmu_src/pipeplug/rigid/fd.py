@@ -22,7 +22,7 @@ import math
 
 import numpy as np
 
-from ..contact.coulomb import one_contact, two_contacts
+from ..contact.coulomb import SLACK, one_contact, two_contacts
 from ..contact.outer import outer_contact_for
 from ..interface import ModelBase, Outputs
 
@@ -90,8 +90,11 @@ class RigidFd(ModelBase):
     def _step_alone(self, s: dict, q: float, tau: float) -> None:
         """One step of the pipe without a plug."""
         c1 = tau * self.outer.limit(s["U1"])
-        v1, p1 = one_contact(self.M1, s["V1"] + tau * q / self.M1, c1,
-                                   _ROUND_OFF * s["p_max"])
+        trial = s["V1"] + tau * q / self.M1
+        # At least the share two_contacts allows: a load 1 ulp above the limit holds the pipe
+        # from rest, as it does with a plug.
+        v1, p1 = one_contact(self.M1, trial, c1,
+                             max(SLACK * (abs(self.M1 * trial) + c1), _ROUND_OFF * s["p_max"]))
         self._commit(s, q, tau, v1, 0.0, p1, 0.0, (v1 > 0.0) - (v1 < 0.0), 0)
 
     def _commit(self, s, q, tau, v1, v2, p1, p2, s1, s2) -> None:

@@ -13,12 +13,9 @@ accurate as k -> 0 (no large equilibrium offset that cancels)::
 
     k > 0:  S = sin(w t)/w,   C = 2 sin(w t/2)^2 / k,     S' = cos(w t)
     k < 0:  S = sinh(l t)/l,  C = 2 sinh(l t/2)^2 / (-k), S' = cosh(l t)
-    k = 0:  S = t,            C = t^2/2,                  S' = 1
 
-Where |k| t^2 is small the three are one Taylor series in x = k t^2 (the same for both signs
-of k), used below |x| = 1e-3 (truncation below 1e-17 relative): the closed forms would divide
-quantities that underflow when k is tiny (a friction of 1e-295 Pa), and the series is also the
-more accurate of the two there.
+(evaluated without dividing by w or k, see :meth:`Motion._basis`)
+    k = 0:  S = t,            C = t^2/2,                  S' = 1
 """
 from __future__ import annotations
 
@@ -53,25 +50,20 @@ class Motion:
         self._w = math.sqrt(abs(k))
 
     def _basis(self, t):
-        """(S, C, S') at time ``t`` [s] (a float, or a numpy array for dense output)."""
-        k = self.k
+        """(S, C, S') at time ``t`` [s] (a float, or a numpy array for dense output).
+
+        Written as ``S = t f(w t) / (w t)`` and ``C = t^2/2 (f(w t/2) / (w t/2))^2`` (f = sin,
+        or sinh for k < 0), the same functions, with no division by a tiny ``w`` or ``k``: the
+        squared sine of a tiny ``w t`` underflows (at tau1 = 1e-295 Pa, C was garbage).
+        """
+        k, w = self.k, self._w
         if k == 0.0:
             return t, 0.5 * t * t, 1.0
-        x = k * t * t
-        if isinstance(t, float):
-            return _series(t, x) if abs(x) < _SERIES_BELOW else self._closed(t, math)
-        closed, series = self._closed(t, np), _series(t, x)
-        near = np.abs(x) < _SERIES_BELOW
-        return tuple(np.where(near, a, b) for a, b in zip(series, closed))
-
-    def _closed(self, t, fn):
-        """(S, C, S') in closed form; ``fn`` is math (floats) or numpy (arrays)."""
-        k, w = self.k, self._w
-        if k > 0.0:
-            half = fn.sin(0.5 * w * t)
-            return fn.sin(w * t) / w, 2.0 * half * half / k, fn.cos(w * t)
-        half = fn.sinh(0.5 * w * t)
-        return fn.sinh(w * t) / w, -2.0 * half * half / k, fn.cosh(w * t)
+        fn = math if isinstance(t, float) else np
+        f, df = (fn.sin, fn.cos) if k > 0.0 else (fn.sinh, fn.cosh)
+        x = w * t
+        half = _over_x(f, 0.5 * x)
+        return t * _over_x(f, x), 0.5 * t * t * half * half, df(x)
 
     def state(self, t):
         """Position [m] and velocity [m/s] at time ``t`` [s] after the piece start.
@@ -132,15 +124,12 @@ class Motion:
                            lambda t: self.state(t)[1], 0.0, t_max, xtol)
 
 
-_SERIES_BELOW = 1e-3     # |k t^2| below which the Taylor series is used
-
-
-def _series(t, x):
-    """(S, C, S') as Taylor series in x = k t^2, four terms each (float or array)."""
-    S = t * (1.0 - x / 6.0 * (1.0 - x / 20.0 * (1.0 - x / 42.0)))
-    C = 0.5 * t * t * (1.0 - x / 12.0 * (1.0 - x / 30.0 * (1.0 - x / 56.0)))
-    dS = 1.0 - 0.5 * x * (1.0 - x / 12.0 * (1.0 - x / 30.0))
-    return S, C, dS
+def _over_x(f, x):
+    """f(x) / x, 1 at x = 0 (``x`` a float or a numpy array)."""
+    if isinstance(x, float):
+        return f(x) / x if x != 0.0 else 1.0
+    safe = np.where(x == 0.0, 1.0, x)
+    return np.where(x == 0.0, 1.0, f(safe) / safe)
 
 
 def _first_quadratic_root(a: float, b: float, c: float, t_max: float) -> float:
@@ -161,11 +150,25 @@ def refine_root(g, dg, a: float, b: float, xtol: float = 0.0) -> float:
     Safeguarded Newton: a Newton step from the latest iterate when it stays inside the
     bracket, bisection otherwise; the bracket shrinks with every evaluation. Stops when the
     update or the bracket is a few ulps wide, or narrower than ``xtol`` (the caller's time
-    resolution: below it a root is no better known). Returns a time in (a, b].
+    resolution: a root sooner after ``a`` than time can resolve, approached only linearly by
+    Newton, is no better known below it). Newton converges from one side on a convex or
+    concave ``g``, so the far bracket end may never move: a converged Newton iterate is the
+    answer, not that end.
 
-    Newton converges from one side on a convex or concave ``g``, so the far bracket end may
-    never move: a converged Newton iterate is the answer, not that end.
+    Returns the first float at which ``g`` has left the sign of ``g(a)`` (reached 0 or
+    crossed), in (a, b]: the converged iterate is walked there ulp by ulp. Where the
+    iteration stops depends on the bracket, and the bracket on how far the search looked
+    ahead, that is on the host's step ends; that float does not, so a run's events, and
+    with them its outputs, do not depend on the communication grid (an event time one ulp
+    apart, times a pipe braking at 5000 m/s^2, moved a plug's velocity by 1.3e-12 of the
+    velocity scale between two grids).
     """
+    positive = g(a) > 0.0
+    return _first_past(g, _newton(g, dg, a, b, xtol), a, b, positive)
+
+
+def _newton(g, dg, a: float, b: float, xtol: float) -> float:
+    """An iterate within a few ulps of the root (see :func:`refine_root`)."""
     ga, gb = g(a), g(b)
     if gb == 0.0:
         return b
@@ -188,3 +191,27 @@ def refine_root(g, dg, a: float, b: float, xtol: float = 0.0) -> float:
             return b
         t, gt = new, g_new
     return b
+
+
+_WALK = 64          # ulps walked at most from the Newton iterate to the first float past
+
+
+def _first_past(g, t: float, a: float, b: float, positive: bool) -> float:
+    """The first float in (a, b] at which ``g`` is 0 or has the sign opposite to
+    ``positive``, walking from ``t`` (which is within a few ulps of it)."""
+    def past(x):
+        gx = g(x)
+        return gx == 0.0 or (gx > 0.0) != positive
+
+    if past(t):
+        for _ in range(_WALK):
+            before = math.nextafter(t, -math.inf)
+            if before <= a or not past(before):
+                return t
+            t = before
+        return t
+    for _ in range(_WALK):
+        t = math.nextafter(t, math.inf)
+        if t >= b or past(t):
+            return min(t, b)
+    return t

@@ -176,7 +176,12 @@ class BothSlide(_Piece):
         return self.force0 - self.kappa * U1, -self.s2 * self.F2 + 0.0 * U1
 
     def friction_work(self, d1, d2):
-        return self.outer.work(self.U1, d1, self.s1), self.F2 * self.s2 * (d1 - d2)
+        # The plug's work is >= 0 (its force opposes the relative motion), but the relative
+        # displacement is a difference of two: a piece that starts at zero relative velocity
+        # and acceleration (a breakaway) and is cut short by another event can leave it below
+        # their round-off, of either sign (-1e-33 J once). Dissipation is never negative.
+        inner = self.F2 * self.s2 * (d1 - d2)
+        return self.outer.work(self.U1, d1, self.s1), inner * (inner > 0.0)
 
     def find_event(self, horizon):
         pipe = self.pipe

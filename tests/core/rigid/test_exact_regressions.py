@@ -1,8 +1,10 @@
-"""Regressions of the exact solver, one per root cause found by differential fuzzing (model II).
+"""Regressions of the rigid solvers, one per root cause found by differential fuzzing
+(``pipeplug fuzz``; all model II but the load at the limit, which is any pipe without a plug).
 
 Each case came from random load histories; the checks need no reference solution: the
 results must not depend on the communication grid, energy must balance, a plug held by static
-friction must never need more than its limit, and the solver must finish.
+friction must never need more than its limit, a load at a friction limit must not move a
+body, and the solver must finish.
 """
 from __future__ import annotations
 
@@ -144,3 +146,105 @@ def test_nearly_no_outer_friction_keeps_the_closed_form_accurate():
     model.advance(-1.0, 0.015625)
     m1 = Params().M1
     assert model.outputs().u_pipe == pytest.approx(-0.5 * 0.015625 ** 2 / m1, rel=1e-12)
+
+
+@pytest.mark.parametrize("solver", ["exact", "fd"])
+def test_load_one_ulp_above_the_limit_holds_a_pipe_without_plug(solver):
+    """A load at the outer limit to round-off (1 ulp above P1 L1 tau1 as the core computes
+    it; the fuzz made it as tau1 = Q / (P1 L1)) held the pipe with a plug but, without one,
+    the projection allowed no round-off: the pipe crept at 7e-13 m/s^2 for the whole blow."""
+    tau1, q = 134470.15961602173, 32106.235383832303
+    assert q > 2.0 * math.pi * (0.035 + 0.003) * 1.0 * tau1            # 1 ulp above
+    for tau2 in (0.0, 1e4):                                          # no plug, plug
+        model = build_model({"tau1": tau1, "tau2": tau2}, {"solver": solver})
+        for k in range(1, 21):
+            model.advance_to(q, k * 1e-3)
+            out = model.outputs()
+            assert (out.v_pipe, out.u_pipe, out.pipe_mode, out.W_input) == (0.0, 0.0, 0, 0.0)
+    model = build_model({"tau1": tau1, "tau2": 0.0}, {"solver": solver})
+    model.advance_to(q * (1.0 + 1e-9), 1e-2)          # a load truly above the limit slides
+    assert model.outputs().pipe_mode == 1 and model.outputs().v_pipe > 0.0
+
+
+def test_plug_at_its_limit_as_the_pipe_leaves_the_soil_stays_stuck_on_every_grid():
+    """Pulled back by Q = -F2 (M1 + M2) / M2, the plug's required force reaches F2 exactly as
+    the pipe leaves the soil (U1 = 0) and stays there (no outer friction beyond). When the
+    breakaway and the segment end fell into one event (depending on the grid), the plug was
+    kicked into sliding at zero relative acceleration: plug_mode -1 on some grids, 0 on
+    others, for 16 ms."""
+    params = dict(tau1=283964.2790735522, tau2=124.9535275947494, rho2=1003.3946708278456)
+    segments = [(0.002696308685690301, 65.66674745827976),
+                (0.02239678389501865, -65.66674745827976), (1.3451293843254578e-05,
+                                                            -15078.1512914407)]
+    T = 0.0251
+    for grid in _grids(segments, T, counts=(3, 11, 101, 2001)):
+        out = _run(params, segments, grid)
+        leaving = (grid[1:] > 0.00906) & (grid[1:] < 0.025093)      # U1 < 0, same load
+        assert np.all(out[leaving, 12] == 0)                                # plug_mode
+        assert np.all(out[leaving, 0] == out[leaving, 1])                   # together
+    _check_grid_independent_and_balanced(params, segments, T)
+
+
+def test_stick_conserves_momentum_so_energy_balances_with_a_heavy_plug():
+    """A plug of 127 pipe masses sticks to a pipe braking at 2e4 m/s^2. The stick time is a
+    root to a few ulps, where the relative velocity is ~1e-13 m/s; setting the plug to the
+    pipe's velocity there changed the kinetic energy by M2 V d: 3.9e-12 of the work. The
+    momentum-conserving common velocity changes it by M1 M2 d^2 / (2 (M1 + M2)) only."""
+    params = dict(tau1=187204.3634534553, tau2=274273.1251634091, rho2=177290.89476976704)
+    segments = [(0.0006100347674109973, -18953.937308155582),
+                (0.0007023491811414517, -4363.383990987881), (0.042770182046069034, 0.0),
+                (1.3339018164587106e-05, -105012.91928017858),
+                (3.6256806706069485e-05, 56051.802526441345)]
+    _check_grid_independent_and_balanced(params, segments, 0.16067348642753898)
+
+
+def test_friction_work_never_decreases_after_a_breakaway_cut_short():
+    """A plug broke away (zero relative velocity and acceleration) 1.4e-10 s before the pipe
+    stopped; the relative displacement of that piece, a difference of two displacements of
+    1e-18 m, came out as -1e-34 m: W_friction_inner = -1.03e-33 J ever after."""
+    params = dict(L1=0.6832118171949602, L2=0.015985771564293844, rho2=3464.2334867902814,
+                  tau1=352142.93494809733, tau2=3038.715656773539)
+    segments = [(0.02609634245246205, 194.45847785253008),
+                (0.018547268220555264, -57432.4102403413)]
+    for grid in _grids(segments, 0.03):
+        out = _run(params, segments, grid)
+        for col in (7, 8, 9):                 # W_friction, its outer and inner parts
+            assert np.all(np.diff(np.r_[0.0, out[:, col]]) >= 0.0)
+
+
+def test_event_times_do_not_depend_on_the_grid():
+    """The plug sticks to a pipe braking at 5000 m/s^2, then slides on alone. The stick time
+    came from a root search bracketed by how far ahead the step asked, so it was one ulp
+    apart on some grids, and the plug's velocity with it (1.6e-12 of its value here). The
+    root is the first float past the crossing: every grid gives the same outputs, bit for
+    bit."""
+    params = dict(tau1=137145.47348779085, tau2=47.11339360210337, rho2=793.8562601222261)
+    segments = [(0.0001314688401900647, 32755.356887043476),
+                (0.0002531184871952582, -22318.914628429426),
+                (0.008676288609590525, 32744.996110657652),
+                (0.027392148234137534, -32755.356887043476),
+                (0.05414672411470262, 16372.498055328826),
+                (0.00011639023613625012, 2682.411687114385)]
+    finals = np.array([_run(params, segments, grid)[-1] for grid in _grids(segments, 0.17)])
+    assert finals[0][1] != 0.0 and finals[0][12] != 0                 # the plug slides
+    assert np.all(finals == finals[0])
+
+
+def test_harmonic_motion_of_a_vanishing_friction_limit_is_uniform():
+    """At tau1 = 2.4e-295 Pa the harmonic basis divided a squared sine that had underflowed
+    by k: the pipe's position was garbage near a piece start, and a segment event was placed
+    8.6e-29 m past U1 = 0 (raised). Found with the root walk to the first float past."""
+    from pipeplug.rigid.motion import Motion
+    for k in (1e-296, -1e-296):
+        body = Motion(1e-256, 7.7e-257, -0.186, k)
+        for t in (1e-130, 2.1e-14, 1e-3):
+            d, v = body.travel(t)
+            assert d == pytest.approx(7.7e-257 * t - 0.093 * t * t, rel=1e-15)
+            assert v == pytest.approx(7.7e-257 - 0.186 * t, rel=1e-15)
+        dense = body.travel(np.array([1e-130, 2.1e-14, 1e-3, 0.0]))[0]
+        assert np.all(np.isfinite(dense)) and dense[-1] == 0.0
+    model = build_model({"tau1": 2.418727066052555e-295, "tau2": 0.0, "L2": 0.0},
+                        {"contact_growth": True})
+    model.advance(2.648521645394783e-254, 0.015625)
+    model.advance(-1.0, 0.015625)                       # pulled out past U1 = 0
+    assert model.outputs().u_pipe == pytest.approx(-0.5 / model.M1 * 0.015625 ** 2, rel=1e-12)

@@ -1,0 +1,153 @@
+"""``pipeplug fuzz``: differential fuzzing of the rigid models I and II.
+
+Runs ``--cases`` random cases of the run ``--seed`` (see :mod:`.cases`) through every core
+path: invariants on every case, the independent reference on every ``--reference-every``-th,
+the FMU (one instance, hosts stepping t += h and t = k h) on every ``--fmu-every``-th, the
+fd scheme on every ``--fd-every``-th. Prints the summary table (cases, failures by check,
+worst values, time), writes it to ``--out``/summary.txt, saves each failing case as a JSON
+file in ``--out``/failures (replay it with ``--replay FILE``) and exits 1 if any case failed.
+``--fit-fd-constant`` runs the fd check alone on ``--cases`` cases and prints the fit of the
+constant of the fd bound.
+"""
+from __future__ import annotations
+
+import argparse
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from .cases import Plan
+from .checks import CHECKS
+from .engine import fuzz
+from .paths import CORE_PATHS
+from .report import load_failure
+from .run import Setup, run_case
+
+__all__ = ["add_arguments", "main", "replay", "fit_fd_constant"]
+
+DEFAULT_FMU = Path("dist") / "PipePlug.fmu"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--cases", type=int, default=1000, help="number of cases (%(default)s)")
+    parser.add_argument("--seed", type=int, default=0, help="seed of the run (%(default)s)")
+    parser.add_argument("--start", type=int, default=0,
+                        help="index of the first case (%(default)s)")
+    parser.add_argument("--jobs", type=int, default=1, help="processes (%(default)s)")
+    parser.add_argument("--reference-every", type=int, default=10,
+                        help="compare every N-th case with the reference (%(default)s; 0: none)")
+    parser.add_argument("--fmu-every", type=int, default=20,
+                        help="run every N-th case through the FMU (%(default)s; 0: none)")
+    parser.add_argument("--fd-every", type=int, default=100,
+                        help="run every N-th case through the fd check (%(default)s; 0: none)")
+    parser.add_argument("--paths", default=None,
+                        help=f"core paths, comma-separated, among {', '.join(CORE_PATHS)} "
+                             "(default: all; with --replay: those of the file)")
+    parser.add_argument("--fmu", default=None,
+                        help=f"the FMU (file or extracted folder; default {DEFAULT_FMU}, built "
+                             "there if missing)")
+    parser.add_argument("--no-fmu", action="store_true", help="run no case through the FMU")
+    parser.add_argument("--out", default="out/fuzz", help="output folder (%(default)s)")
+    parser.add_argument("--replay", default=None, metavar="FILE",
+                        help="run the case saved in FILE and print every check")
+    parser.add_argument("--fit-fd-constant", action="store_true",
+                        help="fit the constant of the fd bound on --cases cases")
+
+
+def main(args: argparse.Namespace) -> int:
+    paths = tuple(p for p in (args.paths or ",".join(CORE_PATHS)).split(",") if p)
+    unknown = [p for p in paths if p not in CORE_PATHS]
+    if unknown or not paths:
+        print(f"pipeplug fuzz: unknown core path(s) {unknown}; allowed: {', '.join(CORE_PATHS)}",
+              file=sys.stderr)
+        return 2
+    if args.replay:
+        return replay(args.replay, Setup(paths), paths_given=args.paths is not None,
+                      fmu=lambda: _fmu(args))
+    if args.fit_fd_constant:
+        return fit_fd_constant(args.seed, args.start, args.cases, Setup(paths), args.jobs,
+                               Path(args.out) / "failures")
+    plan = Plan(args.reference_every, 0 if args.no_fmu else args.fmu_every, args.fd_every)
+    setup = Setup(paths, fmu=_fmu(args) if plan.fmu else None)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    summary, seconds = fuzz(args.seed, range(args.start, args.start + args.cases), plan, setup,
+                            args.jobs, failures=out / "failures")
+    title = (f"pipeplug fuzz --seed {args.seed} --start {args.start} --cases {args.cases} "
+             f"(paths: {', '.join(paths)})")
+    table = f"{title}\n{summary.table(seconds, args.jobs)}"
+    print(table)
+    (out / "summary.txt").write_text(table + "\n")
+    if summary.failures:
+        print(f"\n{summary.failures} failing case(s) saved in {out / 'failures'}")
+    return 1 if summary.failures else 0
+
+
+def _fmu(args) -> str | None:
+    """The FMU to use: --fmu, or dist/PipePlug.fmu (built there if missing)."""
+    if args.no_fmu:
+        return None
+    if args.fmu:
+        return args.fmu
+    if not DEFAULT_FMU.exists():
+        print(f"building {DEFAULT_FMU}", file=sys.stderr)
+        subprocess.run([sys.executable, "-m", "pipeplug_fmu", "build", "--dest",
+                        str(DEFAULT_FMU)], check=True)
+    return str(DEFAULT_FMU)
+
+
+def replay(file: str, setup: Setup | None = None, paths_given: bool = False, fmu=None) -> int:
+    """Run the case saved in ``file`` on the paths it names (unless ``paths_given``: those
+    of ``setup``) and print every check's value; 1 if any fails. ``fmu()`` gives the FMU
+    when the case runs through it."""
+    case, data = load_failure(file)
+    setup = setup or Setup()
+    paths = setup.paths if paths_given or not data.get("paths") else tuple(data["paths"])
+    unknown = [p for p in paths if p not in CORE_PATHS]
+    if unknown:
+        print(f"pipeplug fuzz: the file names core path(s) {unknown} not in this build; "
+              f"allowed: {', '.join(CORE_PATHS)} (choose with --paths)", file=sys.stderr)
+        return 2
+    needs_fmu = "fmu" in case.checks and fmu is not None
+    setup = Setup(paths, setup.fd_path, fmu() if needs_fmu else setup.fmu)
+    result = run_case(case, setup)
+    print(f"case {case.seed}:{case.index}, model {case.model}, checks {', '.join(case.checks)}")
+    print(f"params {case.params}\nsegments {list(case.segments)}\nstop {case.stop!r} s")
+    failed = set(result.failed)
+    for (check, subject), value in sorted(result.values.items()):
+        mark = "FAILED" if (check, subject) in failed else "ok"
+        print(f"  {check} [{subject}]: {value:.3e} (tolerance {CHECKS[check].tolerance:.0e})"
+              f"  {mark}")
+    for (check, subject), message in result.errors.items():
+        print(f"  {check} [{subject}]: {message}")
+    return 1 if failed else 0
+
+
+def fit_fd_constant(seed: int, start: int, cases: int, setup: Setup, jobs: int,
+                    failures: Path | None = None) -> int:
+    """Run the fd check (and the reference) on every case and print the fit of the fd
+    bound's constant: ``C = 1.5 max K`` over the resolved cases (K = E / dt at the three
+    levels, see :mod:`.fdcheck`; the order fit E ~ K dt^p gives p ~ 1, so K is the constant
+    of the fit). Failing cases are saved in ``failures`` and listed."""
+    plan = Plan(reference=1, fmu=0, fd=1)
+    summary, seconds = fuzz(seed, range(start, start + cases), plan, setup, jobs, failures)
+    fd = np.array([r for r in summary.fd_results], dtype=float)
+    resolved = fd[fd[:, 0] == 1]
+    K = resolved[:, 2]
+    order = resolved[~np.isnan(resolved[:, 3]), 3]
+    print(f"fd fit, seed {seed}, cases {start}..{start + cases - 1} ({seconds:.0f} s): "
+          f"resolved {len(resolved)}, grazing {int(np.sum(resolved[:, 1]))}, "
+          f"order measured {len(order)}, refined {int(np.sum(resolved[:, 6] > 3))}")
+    print(f"K = E/dt: median {np.median(K):.3f}, 99 % {np.quantile(K, 0.99):.3f}, "
+          f"max {np.max(K):.3f}")
+    print(f"order: median {np.median(order):.4f}, 1 % {np.quantile(order, 0.01):.4f}, "
+          f"99 % {np.quantile(order, 0.99):.4f}, outside 0.9-1.1: "
+          f"{int(np.sum(np.abs(order - 1.0) > 0.1))}")
+    print(f"C = 1.5 max K = {1.5 * np.max(K):.3f} (in use: {CHECKS['fd bound'].tolerance})")
+    if summary.failures:
+        print(f"{summary.failures} failing case(s): "
+              + ", ".join(f"{s}:{i}" for s, i in summary.failed_cases))
+    return 1 if summary.failures else 0
+

@@ -1,0 +1,125 @@
+"""Aggregating case results: the summary table, failing-case files and replays.
+
+Aggregation is separate from running: :class:`Summary` takes results in any order (from one
+process, a pool or a cluster) and gives the same table.
+"""
+from __future__ import annotations
+
+import json
+import math
+from collections import Counter
+from pathlib import Path
+
+from .cases import Case, case_from_json, case_to_json
+from .checks import CHECKS
+from .run import CaseResult
+
+__all__ = ["Summary", "save_failure", "load_failure"]
+
+
+class Summary:
+    """Counts, failures and worst values per ``(check, subject)`` over many cases."""
+
+    def __init__(self):
+        self.cases = 0
+        self.models = Counter()
+        self.families = Counter()
+        self.fd = Counter()
+        self.fd_results: list[tuple] = []
+        self.rows: dict[tuple[str, str], list] = {}   # key -> [cases, failed, worst, where]
+        self.failed_cases: list[tuple[int, int]] = []
+        self.case_seconds = 0.0
+
+    def add(self, result: CaseResult) -> None:
+        self.cases += 1
+        self.models[result.model] += 1
+        self.families.update(result.families)
+        self.case_seconds += result.seconds
+        if result.fd is not None:
+            self.fd_results.append(result.fd)
+            resolved, grazing, _, order, _, _, levels = result.fd
+            self.fd.update(resolved=resolved, grazing=resolved and grazing,
+                           order=order == order, refined=levels > 3)
+        failed = set(result.failed)
+        for key, value in result.values.items():
+            row = self.rows.setdefault(key, [0, 0, 0.0, None])
+            row[0] += 1
+            row[1] += key in failed
+            if row[2] == row[2] and not value <= row[2]:          # NaN is the worst
+                row[2], row[3] = value, (result.seed, result.index)
+        if failed:
+            self.failed_cases.append((result.seed, result.index))
+
+    @property
+    def failures(self) -> int:
+        """Number of failing cases."""
+        return len(self.failed_cases)
+
+    def count(self, check: str, subject: str | None = None) -> int:
+        """Cases on which ``check`` ran (on ``subject``, or the most on any subject)."""
+        counts = [row[0] for (c, s), row in self.rows.items()
+                  if c == check and (subject is None or s == subject)]
+        return max(counts, default=0)
+
+    def table(self, seconds: float | None = None, jobs: int = 1) -> str:
+        """The summary as text: totals, then one line per check and subject."""
+        fam = self.families
+        lines = [
+            f"cases: {self.cases} (model I {self.models['I']}, model II {self.models['II']}); "
+            f"against the reference: {fam['reference']}; through the FMU: {fam['fmu']}; "
+            f"fd: {fam['fd']} (resolved {self.fd['resolved']}, grazing {self.fd['grazing']}, "
+            f"order measured {self.fd['order']}, refined {self.fd['refined']})",
+            f"failing cases: {self.failures}",
+        ]
+        if seconds is not None:
+            lines.append(f"time: {seconds:.1f} s wall, {self.case_seconds:.1f} s in cases, "
+                         f"{jobs} job(s)")
+        width = max((len(c) + len(s) for c, s in self.rows), default=10) + 3
+        lines += ["", f"{'check [subject]':<{width}} {'cases':>7} {'failed':>6} "
+                      f"{'worst':>9} {'tolerance':>9}  worst case (seed:index)",
+                  "-" * (width + 60)]
+        for check in CHECKS:
+            for (c, subject), (n, failed, worst, where) in sorted(self.rows.items()):
+                if c != check:
+                    continue
+                tag = f"{check} [{subject}]"
+                case = f"{where[0]}:{where[1]}" if where and worst > 0 else "-"
+                lines.append(f"{tag:<{width}} {n:>7} {failed:>6} {_num(worst):>9} "
+                             f"{_num(CHECKS[check].tolerance):>9}  {case}")
+        return "\n".join(lines)
+
+
+def _num(x: float) -> str:
+    if x == 0:
+        return "0"
+    if math.isinf(x) or math.isnan(x):
+        return str(x)
+    return f"{x:.2e}" if abs(x) < 1e-2 or abs(x) >= 1e3 else f"{x:.3f}"
+
+
+def save_failure(result: CaseResult, case: Case, folder: Path, paths: tuple) -> Path:
+    """Write a failing case as a replayable JSON file; return its path."""
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / f"case-{case.seed}-{case.index}.json"
+    data = {
+        "seed": case.seed, "index": case.index, "paths": list(paths),
+        "failed": [{"check": c, "subject": s, "value": result.values[(c, s)],
+                    "tolerance": CHECKS[c].tolerance} for c, s in result.failed],
+        "errors": [{"check": c, "subject": s, "message": m}
+                   for (c, s), m in result.errors.items()],
+        "replay": f"pipeplug fuzz --replay {path.name}",
+        "case": case_to_json(case),
+    }
+    path.write_text(json.dumps(data, indent=1, default=_plain))
+    return path
+
+
+def _plain(value):
+    return float(value) if hasattr(value, "__float__") else str(value)
+
+
+def load_failure(path: str | Path) -> tuple[Case, dict]:
+    """The case of a file written by :func:`save_failure` (or a bare case file), and the
+    file's data."""
+    data = json.loads(Path(path).read_text())
+    return case_from_json(data.get("case", data)), data

@@ -1,0 +1,168 @@
+"""Running one case: through a core path, the reference, or the FMU.
+
+Every run returns the outputs after each step as rows in the order of
+:data:`pipeplug.OUTPUT_NAMES` (13 columns; ``at_rest`` and the modes as numbers).
+Models advance with ``advance_to`` to absolute times, as hosts step.
+"""
+from __future__ import annotations
+
+import atexit
+import copy
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from pipeplug import OUTPUT_NAMES
+
+from .cases import Case, loads_on
+
+__all__ = ["run_grid", "run_calls", "run_reference", "fmu_host", "drop_fmu_host", "COLUMN"]
+
+#: output name -> column of a run's rows
+COLUMN = {name: i for i, name in enumerate(OUTPUT_NAMES)}
+
+
+def run_grid(builder, case: Case, grid, probe_rest: bool = False,
+             params=None, options=None) -> tuple[np.ndarray, int]:
+    """Advance a fresh model through the communication points ``grid`` [s] (``grid[0]`` = 0).
+
+    Parameters
+    ----------
+    builder : callable
+        ``(params, options) -> model`` (a core path).
+    case : Case
+    grid : sequence of float
+        Increasing times [s] from 0.
+    probe_rest : bool
+        At the first point of each stretch where ``at_rest`` holds, step a copy of the model
+        under Q = 0 and count a violation unless its velocities are 0 and its outputs stay
+        the same, bit for bit.
+    params, options : dict, optional
+        Override the case's parameters and options (the fd runs).
+
+    Returns
+    -------
+    (rows, rest_violations)
+        Outputs after each step, shape ``(len(grid) - 1, 13)``, and the violation count.
+    """
+    grid = np.asarray(grid, dtype=float)
+    return _advance(builder, case, grid[:-1], grid[1:], probe_rest, params, options)
+
+
+def run_calls(builder, case: Case, calls) -> np.ndarray:
+    """Replay an FMU host's ``(current time, step size)`` calls on a core path: each step
+    ends at ``current time + step size``, as in the FMU."""
+    starts = np.array([t for t, _ in calls])
+    ends = np.array([t + h for t, h in calls])
+    return _advance(builder, case, starts, ends, False, None, None)[0]
+
+
+def _advance(builder, case, starts, ends, probe_rest, params, options):
+    model = builder(params or case.params, options or case.options)
+    loads = loads_on(case.segments, starts)
+    rows = np.empty((len(ends), len(OUTPUT_NAMES)))
+    violations, resting = 0, False
+    for i in range(len(ends)):
+        model.advance_to(float(loads[i]), float(ends[i]))
+        out = model.outputs()
+        rows[i] = out
+        if probe_rest and out.at_rest and not resting:
+            violations += _rest_violated(model, out, float(ends[i]), case.stop)
+        resting = out.at_rest
+    return rows, violations
+
+
+def _rest_violated(model, out, t: float, stop: float) -> int:
+    """1 if ``at_rest`` is claimed wrongly: velocities not 0, or a step under Q = 0 changes
+    an output."""
+    probe = copy.deepcopy(model)
+    probe.advance_to(0.0, t + max(stop, 1.0))
+    after = probe.outputs()
+    return int(out.v_pipe != 0.0 or out.v_plug != 0.0 or tuple(after) != tuple(out))
+
+
+def run_reference(case: Case, times, params=None) -> dict:
+    """The independent reference (DOP853, :mod:`pipeplug_references.rigid_ivp`) at ``times``."""
+    from pipeplug_references.rigid_ivp import simulate
+
+    return simulate(params or case.params, case.segments, times, case.growth)
+
+
+class FmuHost:
+    """One FMU instance (FMPy's FMU2Slave), reset and reused for every case of a process."""
+
+    def __init__(self, fmu: str | Path):
+        from fmpy import extract, read_model_description
+        from fmpy.fmi2 import FMU2Slave
+
+        fmu = Path(fmu)
+        folder = str(fmu) if fmu.is_dir() else extract(
+            str(fmu), unzipdir=tempfile.mkdtemp(prefix="pipeplug-fuzz-fmu-"))
+        md = read_model_description(folder)
+        self.vr = {v.name: v.valueReference for v in md.modelVariables}
+        self.kind = {v.name: v.type for v in md.modelVariables}
+        self.slave = FMU2Slave(guid=md.guid, unzipDirectory=folder,
+                               modelIdentifier=md.coSimulation.modelIdentifier,
+                               instanceName="fuzz")
+        self.slave.instantiate(loggingOn=False)
+        self.fresh = True
+        self.reals = [self.vr[n] for n in OUTPUT_NAMES if self.kind[n] == "Real"]
+        self.real_cols = [COLUMN[n] for n in OUTPUT_NAMES if self.kind[n] == "Real"]
+        self.ints = [self.vr[n] for n in OUTPUT_NAMES if self.kind[n] == "Integer"]
+        self.int_cols = [COLUMN[n] for n in OUTPUT_NAMES if self.kind[n] == "Integer"]
+        self.bools = [self.vr[n] for n in OUTPUT_NAMES if self.kind[n] == "Boolean"]
+        self.bool_cols = [COLUMN[n] for n in OUTPUT_NAMES if self.kind[n] == "Boolean"]
+
+    def run(self, case: Case, calls) -> np.ndarray:
+        """Reset, set the case's parameters, make the host's calls; the outputs after each."""
+        s = self.slave
+        if not self.fresh:
+            s.reset()
+        self.fresh = False
+        s.setupExperiment(startTime=0.0)
+        s.enterInitializationMode()
+        for name, value in case.params.items():
+            s.setReal([self.vr[name]], [value])
+        s.setBoolean([self.vr["contact_growth"]], [case.growth])
+        s.setString([self.vr["solver"]], ["exact"])
+        s.exitInitializationMode()
+        loads = loads_on(case.segments, [t for t, _ in calls])
+        rows = np.empty((len(calls), len(OUTPUT_NAMES)))
+        q_vr = [self.vr["Q"]]
+        for i, (t, h) in enumerate(calls):
+            s.setReal(q_vr, [float(loads[i])])
+            s.doStep(t, h)
+            rows[i, self.real_cols] = s.getReal(self.reals)
+            rows[i, self.int_cols] = s.getInteger(self.ints)
+            rows[i, self.bool_cols] = s.getBoolean(self.bools)
+        return rows
+
+    def close(self) -> None:
+        self.slave.terminate()
+        self.slave.freeInstance()
+
+
+_HOSTS: dict[str, FmuHost] = {}
+
+
+def fmu_host(fmu: str | Path) -> FmuHost:
+    """The process's one instance of the FMU at ``fmu`` (a file or an extracted folder)."""
+    key = str(Path(fmu).resolve())
+    if key not in _HOSTS:
+        if not _HOSTS:
+            atexit.register(_close_all)
+        _HOSTS[key] = FmuHost(key)
+    return _HOSTS[key]
+
+
+def drop_fmu_host(fmu: str | Path) -> None:
+    """Forget the instance after it failed (the next case gets a new one; a failed pythonfmu
+    instance is never terminated: that can crash the host)."""
+    _HOSTS.pop(str(Path(fmu).resolve()), None)
+
+
+def _close_all() -> None:
+    for host in _HOSTS.values():
+        host.close()
+    _HOSTS.clear()

@@ -1,0 +1,98 @@
+"""Fuzz cases: generated from (seed, index) alone, JSON round trip, domains, grids, hosts."""
+from __future__ import annotations
+
+import json
+import math
+
+from pipeplug_harness.fuzz.cases import (
+    GRIDS,
+    Plan,
+    case_from_json,
+    case_to_json,
+    edges_of,
+    generate,
+    host_calls,
+    load_at,
+    loads_on,
+)
+from pipeplug_harness.fuzz.checks import Body
+
+
+def test_a_case_depends_on_seed_and_index_only():
+    a = generate(7, 123)
+    assert generate(7, 123) == a                        # again, in another order
+    assert [generate(7, i) for i in (5, 123)][1] == a
+    assert generate(8, 123) != a and generate(7, 124) != a
+
+
+def test_json_round_trip_is_exact():
+    for i in range(20):
+        case = generate(3, i, Plan(1, 1, 1))
+        assert case_from_json(json.loads(json.dumps(case_to_json(case)))) == case
+
+
+def test_plan_marks_the_costly_checks():
+    plan = Plan(reference=10, fmu=20, fd=100)
+    assert plan.checks_for(0) == ("core", "reference", "fmu", "fd")
+    assert plan.checks_for(10) == ("core", "reference")
+    assert plan.checks_for(40) == ("core", "reference", "fmu")
+    assert plan.checks_for(7) == ("core",)
+    assert Plan(0, 0, 0).checks_for(0) == ("core",)
+
+
+def test_domains_are_covered():
+    cases = [generate(11, i) for i in range(600)]
+    models = {c.model for c in cases}
+    assert models == {"I", "II"}
+    bodies = [Body.of(c.params, c.growth) for c in cases]
+    ratios = [b.M2 / b.M1 for b in bodies if b.plug]
+    assert min(ratios) < 1e-5 and max(ratios) > 1e2                # 1e-6 .. 1e3 pipe masses
+    assert any(c.params["L2"] == 0.0 for c in cases)
+    assert any(c.params["tau2"] == 0.0 and c.params["L2"] > 0.0 for c in cases)
+    assert any(c.params["tau1"] == 0.0 for c in cases)
+    holds = [b.k1 * c.params["L1"] / max(abs(q) for _, q in c.segments)
+             for c, b in zip(cases, bodies) if any(q for _, q in c.segments)]
+    assert max(holds) > 1.2                     # F1 beyond the largest load of the history
+    loads = [q for c in cases for _, q in c.segments]
+    assert min(loads) < -50e3 and max(loads) > 50e3
+    assert any(len(c.segments) == 1 for c in cases) and any(len(c.segments) == 6
+                                                           for c in cases)
+    at_limit = sum(math.isclose(abs(q), b.k1 * c.params["L1"], rel_tol=1e-14)
+                   for c, b in zip(cases, bodies) for _, q in c.segments if q)
+    assert at_limit > 10                                     # loads exactly at F1
+    durations = [d for c in cases for d, _ in c.segments]
+    assert min(durations) < 2e-5 and max(durations) > 0.1
+
+
+def test_grids_hold_the_edges_and_the_samples():
+    for i in range(50):
+        case = generate(5, i)
+        inner = {e for e in edges_of(case.segments) if 0.0 < e < case.stop}
+        for name in GRIDS:
+            grid = case.grids[name]
+            assert grid[0] == 0.0 and grid[-1] == case.stop
+            assert all(b > a for a, b in zip(grid[:-1], grid[1:]))
+            assert inner <= set(grid) and set(case.samples) <= set(grid)
+        assert len(case.grids["coarse"]) < len(case.grids["fine"])
+
+
+def test_loads_are_right_continuous():
+    segments = ((0.01, 5.0), (0.02, -3.0))
+    edges = edges_of(segments)
+    assert [load_at(segments, t) for t in (0.0, 0.005, edges[1], 0.02, edges[2], 1.0)] == [
+        5.0, 5.0, -3.0, -3.0, 0.0, 0.0]
+    assert list(loads_on(segments, [0.0, edges[1], edges[2]])) == [5.0, -3.0, 0.0]
+
+
+def test_hosts_step_to_the_stop_through_every_edge():
+    for i in range(30):
+        case = generate(9, i)
+        inner = {e for e in edges_of(case.segments) if 0.0 < e < case.stop}
+        for style in ("t+=h", "t=k*h"):
+            calls = host_calls(case, style)
+            starts = [t for t, _ in calls]
+            assert starts[0] == 0.0 and inner <= set(starts)
+            assert math.isclose(calls[-1][0] + calls[-1][1], case.stop, rel_tol=1e-12)
+            assert all(h > 0.0 for _, h in calls)
+        for t, _ in host_calls(case, "t=k*h"):
+            assert t in inner or t == round(t / case.host_h) * case.host_h   # t = k h
