@@ -120,3 +120,17 @@ def test_a_bad_file_is_refused_before_any_work(tmp_path, pipeplug_cli):
     proc = pipeplug_cli("sweep", path, check=False)
     assert proc.returncode == 2
     assert "target = 1.0" in proc.stderr and "<= L1" in proc.stderr
+
+
+def test_fuzz_runs_on_the_engine(client, tmp_path):
+    """``pipeplug fuzz`` on the cluster: the same summary as in this process (every check's
+    cases, failures and worst value; which case was worst first may differ on ties)."""
+    from pipeplug_harness.fuzz.cases import Plan
+    from pipeplug_harness.fuzz.engine import fuzz
+    from pipeplug_harness.fuzz.run import Setup
+    plan, setup = Plan(reference=10, fmu=0, fd=0), Setup(("python",))
+    here, _ = fuzz(5, range(40, 160), plan, setup, progress=None)
+    there, _ = fuzz(5, range(40, 160), plan, setup, progress=None, client=client)
+    assert there.cases == here.cases == 120 and there.failures == here.failures == 0
+    assert {k: v[:3] for k, v in there.rows.items()} == {k: v[:3] for k, v in here.rows.items()}
+    assert there.families == here.families and there.models == here.models
