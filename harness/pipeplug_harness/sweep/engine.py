@@ -3,8 +3,8 @@ they finish.
 
 A campaign is any object with ``name``, ``n_chunks``, ``chunk_cases(c)`` (cases in chunk ``c``)
 and ``run_chunk(c)``, a pure function of the chunk's number (cases generated where they run,
-from the campaign and their indices: only chunk numbers and results travel). The campaign is
-sent to each worker once. :func:`map_chunks` runs chunks and hands each result to a collector
+from the campaign and their indices: only the campaign, chunk numbers and results travel).
+:func:`map_chunks` runs chunks and hands each result to a collector
 in this process (a fuzz run's summary); :func:`run_campaign` collects into an output folder:
 ``run_chunk`` gives a ``pyarrow.Table``, the campaign has a ``digest``, and the engine submits
 the chunks not yet in the folder and the client writes each chunk's table as it arrives
@@ -62,7 +62,7 @@ def map_chunks(campaign, chunks, client, collect, *, progress: bool = True,
     ----------
     campaign : object
         ``name``, ``n_chunks``, ``chunk_cases(c)``, ``run_chunk(c)`` (see the module
-        docstring); sent to every worker once.
+        docstring); sent with every task, so it should be small (no case data).
     chunks : sequence of int
         The chunks to run.
     client : distributed.Client
@@ -84,9 +84,10 @@ def map_chunks(campaign, chunks, client, collect, *, progress: bool = True,
                unit="case", desc=campaign.name, disable=not progress, mininterval=1.0)
     start = time.perf_counter()
     if todo:
-        shared = client.scatter(campaign, broadcast=True, hash=False)
+        # Each task carries the campaign (a few kB) rather than sharing one scattered copy:
+        # a task then needs nothing that a dead worker might have held.
         token = uuid.uuid4().hex[:8]
-        futures = {client.submit(_run, shared, c, key=f"{campaign.name}-{token}-{c}",
+        futures = {client.submit(_run, campaign, c, key=f"{campaign.name}-{token}-{c}",
                                  retries=0): c for c in todo}
         for future in as_completed(futures):
             c = futures.pop(future)
