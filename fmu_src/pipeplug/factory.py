@@ -15,7 +15,8 @@ __all__ = ["build_model"]
 
 
 def build_model(params: Params | Mapping[str, float] | None = None,
-                options: Options | Mapping[str, object] | None = None) -> Model:
+                options: Options | Mapping[str, object] | None = None, *,
+                compiled: bool = True) -> Model:
     """Validate parameters and options and build the model they call for.
 
     Parameters
@@ -24,6 +25,10 @@ def build_model(params: Params | Mapping[str, float] | None = None,
         Parameter values by contract name (SI); missing ones take their defaults.
     options : Options or mapping, optional
         ``solver`` ("exact" | "fd"), ``contact_growth`` (bool), ``elastic`` (bool).
+    compiled : bool, optional
+        The exact rigid solver runs compiled by numba when it is installed (default), or as
+        plain Python (``False``: no numba import, which a short run may not repay). The elastic
+        kernels are compiled whenever numba is available; ``PIPEPLUG_NO_JIT=1`` turns both off.
 
     Returns
     -------
@@ -47,4 +52,4 @@ def build_model(params: Params | Mapping[str, float] | None = None,
         from .rigid.fd import RigidFd
         return RigidFd(params, options)
     from .rigid.exact import RigidExact
-    return RigidExact(params, options)
+    return RigidExact(params, options, compiled)

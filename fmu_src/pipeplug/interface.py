@@ -85,8 +85,9 @@ class Model(Protocol):
     def outputs(self) -> Outputs:
         """The outputs at the current time (forces under the last step's Q)."""
 
-    def sample(self, q: float, times, names=OUTPUT_NAMES) -> dict:
-        """Advance to ``times[-1]`` under a constant ``q`` [N], recording ``names`` at ``times``."""
+    def sample(self, q, times, names=OUTPUT_NAMES) -> dict:
+        """Advance through ``times`` [s] under ``q`` [N] (constant, or ``q[j]`` over the
+        interval ending at ``times[j]``), recording ``names`` at ``times``."""
 
     def energies(self) -> tuple[float, float, float]:
         """Kinetic energy, elastic energy and the scheme's reversing work [J]."""
@@ -126,10 +127,13 @@ class ModelBase:
         :attr:`time` to round-off of the host's clock): the step starts there, so a load
         switched by the host takes effect at the host's instant.
         """
-        if t_start is not None:
-            self.time = float(t_start)
+        if t_start is None:
+            t_start = self.time
+        else:
+            t_start = float(t_start)
+            self.time = t_start
         t_end = float(t_end)
-        h = t_end - self.time
+        h = t_end - t_start
         self._check_step(q, h)
         self._step_to(float(q), h, t_end)
 
@@ -138,9 +142,10 @@ class ModelBase:
         if not (h > 0.0 and math.isfinite(h) and math.isfinite(q)):
             raise ValueError(f"a step needs a finite q and a finite h > 0 (got q={q!r}, h={h!r})")
 
-    def sample(self, q: float, times, names=OUTPUT_NAMES) -> dict:
-        """Advance to each of ``times`` [s] (increasing, later than :attr:`time`) under a
-        constant ``q`` [N] and record the outputs ``names`` there.
+    def sample(self, q, times, names=OUTPUT_NAMES) -> dict:
+        """Advance to each of ``times`` [s] (increasing, later than :attr:`time`) under ``q``
+        [N] (constant, or ``q[k]`` over the step ending at ``times[k]``) and record the outputs
+        ``names`` there.
 
         Returns
         -------
@@ -148,10 +153,11 @@ class ModelBase:
             One array per requested output name.
         """
         times = np.asarray(times, dtype=float)
+        loads = np.broadcast_to(np.asarray(q, dtype=float), times.shape)
         rows = [OUTPUT_NAMES.index(name) for name in names]
         table = np.empty((len(rows), len(times)))
         for k, t in enumerate(times):
-            self.advance_to(q, t)
+            self.advance_to(loads[k], t)
             out = self.outputs()
             table[:, k] = [out[row] for row in rows]
         return dict(zip(names, table))

@@ -2,13 +2,16 @@
 
 Kernels and their helpers are written once, as plain Python over floats and arrays. Helpers are
 marked with :func:`jitable`; a kernel is compiled by :func:`compiled` when a model first asks
-for it. Only then is numba imported (so a rigid model, or a host without numba, never imports
-it), the marked helpers are registered with numba (they stay plain functions for Python
-callers), and the kernel is compiled in ``nopython`` mode with IEEE arithmetic (no fast-math:
-the compiled and the Python path give the same numbers). Without numba, or with the
+for it. Only then is numba imported (so a model on the plain path, or a host without numba,
+never imports it), the marked helpers are registered with numba (they stay plain functions for
+Python callers), and the kernel is compiled in ``nopython`` mode with IEEE arithmetic (no
+fast-math: the compiled and the Python path give the same numbers). Without numba, or with the
 environment variable ``PIPEPLUG_NO_JIT=1``, :func:`compiled` returns the plain function; the
 elastic model then does not loop in Python but steps with whole-array numpy operations
-(:mod:`pipeplug.elastic.vectorised`, chosen when :func:`enabled` is False).
+(:mod:`pipeplug.elastic.vectorised`, chosen when :func:`enabled` is False). A helper that
+Python runs best with array operations and compiled code best as a loop is marked with
+:func:`compiled_form`, naming its loop form (both compute the same values with the same
+helpers).
 
 Compiled code is cached on disk so that a new process (for example each run of the FMU, whose
 files an importer unpacks into a fresh temporary folder and may delete afterwards) reuses it.
@@ -25,12 +28,14 @@ import os
 import sys
 from pathlib import Path
 
-__all__ = ["jitable", "compiled", "enabled", "NO_JIT_ENV", "CACHE_DIR_ENV", "cache_folder"]
+__all__ = ["jitable", "compiled_form", "compiled", "enabled", "NO_JIT_ENV", "CACHE_DIR_ENV",
+           "cache_folder"]
 
 NO_JIT_ENV = "PIPEPLUG_NO_JIT"
 CACHE_DIR_ENV = "PIPEPLUG_CACHE_DIR"
 _PACKAGE = __name__.rpartition(".")[0] or "pipeplug"
-_HELPERS: list = []                 # functions marked jitable, registered at the first compile
+_HELPERS: list = []                 # (function, inline) marked jitable, registered at first compile
+_FORMS: list = []                   # (function, its compiled form), registered likewise
 _COMPILED: dict = {}                # plain kernel -> its compiled dispatcher
 _numba = None                       # the numba module once imported; False when unavailable
 
@@ -50,13 +55,54 @@ def _digest_sources() -> str:
 _SOURCES_KEY = _digest_sources()    # now, while the files are surely there
 
 
-def jitable(func):
-    """Mark ``func`` as callable from compiled kernels; it is returned unchanged."""
-    _HELPERS.append(func)
+def jitable(func=None, *, inline: bool = False):
+    """Mark ``func`` as callable from compiled kernels; it is returned unchanged.
+
+    ``inline=True`` (as ``@jitable(inline=True)``): compiled callers get the function's body
+    in place of a call, for small functions in hot loops (the compiler does not always inline
+    them itself).
+    """
+    if func is None:
+        return lambda f: jitable(f, inline=inline)
+    if any(f is func for f, _ in _HELPERS):
+        return func
+    _HELPERS.append((func, inline))
     if _numba:                      # numba already set up: register now
-        from numba.extending import register_jitable
-        register_jitable(func)
+        _register(func, inline)
     return func
+
+
+def _register(func, inline: bool) -> None:
+    from numba.extending import register_jitable
+    register_jitable(inline="always" if inline else "never")(func)
+
+
+def compiled_form(form):
+    """Decorator: compiled kernels that call the decorated function run ``form`` instead.
+
+    ``form`` takes the same arguments and gives the same results, computed in a way that suits
+    compiled code (a loop where Python uses array operations); it is marked :func:`jitable`.
+    Python callers get the decorated function unchanged.
+    """
+    def mark(func):
+        jitable(form)
+        _FORMS.append((func, form))
+        if _numba:
+            _register_form(func, form)
+        return func
+    return mark
+
+
+def _register_form(func, form) -> None:
+    """Make compiled calls of ``func`` run ``form`` (a numba overload with its signature)."""
+    import inspect
+
+    from numba.extending import overload
+
+    def typer(*args):
+        return form
+    typer.__signature__ = inspect.signature(form)
+    overload(func)(typer)
 
 
 def enabled() -> bool:
@@ -100,12 +146,14 @@ def _load_numba():
         if os.environ.get(NO_JIT_ENV, "").strip() in ("", "0"):
             try:
                 import numba
-                from numba.extending import register_jitable
+                import numba.extending
             except Exception:  # an absent or broken numba must never stop the pure path
                 return None
             _install_cache_locator()
-            for helper in _HELPERS:
-                register_jitable(helper)
+            for helper, inline in _HELPERS:
+                _register(helper, inline)
+            for func, form in _FORMS:
+                _register_form(func, form)
             _numba = numba
     return _numba or None
 

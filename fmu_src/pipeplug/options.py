@@ -44,16 +44,26 @@ class Options:
         for key, value in given.items():
             if key not in OPTIONS:
                 raise ParameterError(key, value, "an option among " + ", ".join(OPTIONS))
-            allowed = OPTIONS[key][0]
-            if not any(value is a or (type(value) is type(a) and value == a) for a in allowed):
-                raise ParameterError(key, value, "one of " + ", ".join(map(repr, allowed)))
+            if not _is_allowed(key, value):
+                raise ParameterError(key, value,
+                                     "one of " + ", ".join(map(repr, OPTIONS[key][0])))
         return cls(**{k: given.get(k, spec[1]) for k, spec in OPTIONS.items()})
 
     def active_groups(self) -> frozenset[str]:
         """Which conditional parameter groups these options make active."""
-        groups = set()
         if self.elastic:
-            groups.add("elastic")
-        elif self.solver == "fd":
-            groups.add("fd")
-        return frozenset(groups)
+            return _ELASTIC
+        return _FD if self.solver == "fd" else _NONE
+
+
+_ELASTIC, _FD, _NONE = frozenset({"elastic"}), frozenset({"fd"}), frozenset()
+#: the allowed values of each option with their types (so that 1 is not True, nor 1.0 1)
+_ALLOWED = {name: {(type(a), a) for a in spec[0]} for name, spec in OPTIONS.items()}
+
+
+def _is_allowed(name: str, value: object) -> bool:
+    """True when ``value`` is one of the allowed values of option ``name``, of its type."""
+    try:
+        return (type(value), value) in _ALLOWED[name]
+    except TypeError:                 # unhashable: not among the allowed values
+        return False

@@ -16,8 +16,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, fields, make_dataclass, replace
+from functools import cache
 
-__all__ = ["ParameterError", "Parameter", "PARAMETERS", "Params"]
+import numpy as np
+
+__all__ = ["ParameterError", "Parameter", "PARAMETERS", "Params", "ParamArrays"]
 
 
 class ParameterError(ValueError):
@@ -95,51 +98,10 @@ PARAMETERS: tuple[Parameter, ...] = (
 _BY_NAME = {p.name: p for p in PARAMETERS}
 
 
-class _Derived:
-    """Quantities derived from the parameter values (mixed into :class:`Params`)."""
+class _Formulas:
+    """Quantities derived from the parameter values (arithmetic only, so that the same formulas
+    serve arrays of values, :class:`ParamArrays`; the wave speeds excepted)."""
 
-    @classmethod
-    def names(cls) -> tuple[str, ...]:
-        """The parameter names in table order."""
-        return tuple(f.name for f in fields(cls))
-
-    def with_(self, **changes: float) -> Params:
-        """A copy with some values changed (unknown names raise :class:`ParameterError`)."""
-        return replace(self, **_checked_names(changes))
-
-    @classmethod
-    def from_mapping(cls, values) -> Params:
-        """Parameters from a mapping of contract names; missing ones take their defaults."""
-        return cls(**_checked_names(values))
-
-    def validate(self, active: frozenset[str] = frozenset()) -> Params:
-        """Check every active parameter against its range.
-
-        Parameters
-        ----------
-        active : frozenset of str
-            Which conditional groups are active: ``"elastic"``, ``"fd"``. Parameters tied to
-            an inactive group are not checked (the contract's rule).
-
-        Returns
-        -------
-        Params
-            ``self``, for chaining.
-
-        Raises
-        ------
-        ParameterError
-            Naming the first offending parameter, its value and the allowed range.
-        """
-        for p in PARAMETERS:
-            if p.active_with is not None and p.active_with not in active:
-                continue
-            value = getattr(self, p.name)
-            if not _within(p, value, self):
-                raise ParameterError(p.name, value, p.allowed())
-        return self
-
-    # Derived quantities ------------------------------------------------------------
     @property
     def P1(self) -> float:
         """Outer perimeter of the pipe [m]."""
@@ -196,6 +158,89 @@ class _Derived:
         return math.sqrt(self.E2 / self.rho2)
 
 
+class _Derived(_Formulas):
+    """Construction and checks of :class:`Params`, and the derived quantities."""
+
+    @classmethod
+    def names(cls) -> tuple[str, ...]:
+        """The parameter names in table order."""
+        return tuple(f.name for f in fields(cls))
+
+    def with_(self, **changes: float) -> Params:
+        """A copy with some values changed (unknown names raise :class:`ParameterError`)."""
+        return replace(self, **_checked_names(changes))
+
+    @classmethod
+    def from_mapping(cls, values) -> Params:
+        """Parameters from a mapping of contract names; missing ones take their defaults."""
+        return cls(**_checked_names(values))
+
+    def validate(self, active: frozenset[str] = frozenset()) -> Params:
+        """Check every active parameter against its range.
+
+        Parameters
+        ----------
+        active : frozenset of str
+            Which conditional groups are active: ``"elastic"``, ``"fd"``. Parameters tied to
+            an inactive group are not checked (the contract's rule).
+
+        Returns
+        -------
+        Params
+            ``self``, for chaining.
+
+        Raises
+        ------
+        ParameterError
+            Naming the first offending parameter, its value and the allowed range.
+        """
+        for p in _checked(frozenset(active)):
+            value = getattr(self, p.name)
+            if not _within(p, value, self):
+                raise ParameterError(p.name, value, p.allowed())
+        return self
+
+
+class ParamArrays(_Formulas):
+    """Parameter values of many cases at once: one array per parameter (missing ones take their
+    defaults), broadcast to one length, with the derived quantities of :class:`Params` computed
+    by the same formulas.
+
+    Parameters
+    ----------
+    values : mapping of str to float or array
+        Values by contract name (SI).
+    """
+
+    def __init__(self, values):
+        named = _checked_names(values)
+        columns = np.broadcast_arrays(*(np.asarray(named.get(p.name, p.default), dtype=float)
+                                        for p in PARAMETERS))
+        for p, column in zip(PARAMETERS, columns):
+            setattr(self, p.name, np.atleast_1d(column).ravel())
+        self.size = len(self.L1)
+
+    @property
+    def has_plug(self):
+        """True where the plug is coupled to the pipe (tau2 > 0 and L2 > 0)."""
+        return (self.tau2 > 0.0) & (self.L2 > 0.0)
+
+    def validate(self, active: frozenset[str] = frozenset()) -> ParamArrays:
+        """Check every active parameter of every case (see :meth:`Params.validate`).
+
+        Raises
+        ------
+        ParameterError
+            Naming the first offending parameter and its first offending value.
+        """
+        for p in _checked(frozenset(active)):
+            values = getattr(self, p.name)
+            ok = _in_range(p, values, self)
+            if not np.all(ok):
+                raise ParameterError(p.name, float(values[np.argmin(ok)]), p.allowed())
+        return self
+
+
 Params = make_dataclass(
     "Params", [(p.name, float, p.default) for p in PARAMETERS], bases=(_Derived,), frozen=True)
 Params.__doc__ = """Parameter values in SI units; defaults are the paper's base case.
@@ -216,6 +261,8 @@ def _checked_names(values) -> dict:
 
 def _as_number(value):
     """A plain ``float`` for real numbers (numpy scalars included); anything else unchanged."""
+    if type(value) is float:          # the common case, first
+        return value
     if isinstance(value, (bool, str)):
         return value
     try:
@@ -224,16 +271,28 @@ def _as_number(value):
         return value
 
 
+@cache
+def _checked(active: frozenset[str]) -> tuple[Parameter, ...]:
+    """The parameters checked when the groups ``active`` are: all but those of other groups."""
+    return tuple(p for p in PARAMETERS if p.active_with is None or p.active_with in active)
+
+
 def _within(p: Parameter, value: float, params: Params) -> bool:
-    """True when ``value`` is finite and inside the range of ``p``."""
-    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+    """True when ``value`` is a finite number inside the range of ``p``."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)):
         return False
-    if p.lower is not None and (value <= p.lower if p.strict_lower else value < p.lower):
-        return False
-    if p.upper is not None and value > p.upper:
-        return False
+    return bool(_in_range(p, value, params))
+
+
+def _in_range(p: Parameter, value, params):
+    """Whether ``value`` is finite and inside the range of ``p``: a bool for a float, an array
+    of them for an array (the one statement of the range rules)."""
+    ok = value - value == 0.0                              # finite
+    if p.lower is not None:
+        ok = ok & ((value > p.lower) if p.strict_lower else (value >= p.lower))
+    if p.upper is not None:
+        ok = ok & (value <= p.upper)
     if p.upper_of is not None:
         bound = params.L1 / 2.0 if p.upper_of == "L1/2" else getattr(params, p.upper_of)
-        if value > bound:
-            return False
-    return True
+        ok = ok & (value <= bound)
+    return ok

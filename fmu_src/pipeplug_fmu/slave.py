@@ -134,7 +134,9 @@ class PipePlug(Fmi2Slave):
         params = {p.name: self._real[self._params[p.name]] for p in PARAMETERS}
         options = {name: self._value(self._params[name]) for name in OPTIONS}
         try:
-            self._model = core.build_model(params, options)
+            # The exact rigid solver runs as plain Python here: a whole run is faster without
+            # numba's import (README, "Performance of the FMU"); elastic kernels compile.
+            self._model = core.build_model(params, options, compiled=False)
         except ParameterError as exc:
             self._refuse(refusal(exc.name, exc.value, exc.allowed))
         except ImportError as exc:

@@ -87,7 +87,7 @@ def _build_with_changed_core(tmp_path: Path) -> Path:
     shutil.copytree(ROOT / "fmu_src", src, ignore=shutil.ignore_patterns("__pycache__"))
     exact = src / "pipeplug" / "rigid" / "exact.py"
     text = exact.read_text()
-    marker = "        out = self._outputs_at(self.time)\n"
+    marker = "        out = self._outputs(self._st, self._par, self._st[TIME])\n"
     assert marker in text
     exact.write_text(text.replace(marker, marker + "        out = (2.0 * out[0], *out[1:])\n"))
     dest = tmp_path / "changed" / "PipePlug.fmu"

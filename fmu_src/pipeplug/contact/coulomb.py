@@ -19,12 +19,14 @@ Used at the acceleration level by the exact solver (``c`` are forces, ``w`` acce
 the velocity level by the explicit schemes (``c`` are impulses ``dt*F``, ``w`` trial velocities,
 forces returned are impulses).
 
-The functions use scalars and tuples only, so that the elastic kernels can compile them with
-numba (:func:`pipeplug.jit.jitable`); this module never imports numba itself. The vectorised
+The functions use scalars and tuples only, so that the compiled kernels (elastic and exact) call
+them (:func:`pipeplug.jit.jitable`); this module never imports numba itself. The vectorised
 form for many nodes at once is :mod:`pipeplug.contact.vectorised`; both are tested against
 :data:`PATTERNS`.
 """
 from __future__ import annotations
+
+from ..jit import jitable
 
 __all__ = ["PATTERNS", "SLACK", "one_contact", "pair_contact", "two_contacts", "pattern"]
 
@@ -37,6 +39,7 @@ _S1 = tuple(s1 for s1, _ in PATTERNS)
 _S2 = tuple(s2 for _, s2 in PATTERNS)
 
 
+@jitable
 def one_contact(m, w, c, slack):
     """Coulomb projection for one body on a fixed support.
 
@@ -63,6 +66,7 @@ def one_contact(m, w, c, slack):
     return w + f / m, f
 
 
+@jitable
 def pair_contact(m1, m2, w1, w2, c2):
     """Pipe and plug without a soil contact: ``(x1, x2, f2)``.
 
@@ -79,6 +83,7 @@ def pair_contact(m1, m2, w1, w2, c2):
     return w1 + f2 / m1, w2 - f2 / m2, f2
 
 
+@jitable
 def two_contacts(m1, m2, w1, w2, c1, c2, slack):
     """Solve the joint two-contact Coulomb problem (see the module docstring).
 
@@ -115,6 +120,7 @@ def two_contacts(m1, m2, w1, w2, c1, c2, slack):
     return x1, x2, _clip(f1, c1), _clip(f2, c2), _S1[best], _S2[best]
 
 
+@jitable
 def pattern(m1, m2, w1, w2, c1, c2, s1, s2):
     """Rates and forces of the sign pattern ``(s1, s2)``, and how far it violates its
     conditions (<= 0: consistent) [N or N s]."""
@@ -141,6 +147,7 @@ def pattern(m1, m2, w1, w2, c1, c2, s1, s2):
     return x1, x2, f1, f2, max(-x1 * s1 * m1, -(x1 - x2) * s2 * min(m1, m2))
 
 
+@jitable
 def _clip(f, c):
     """Clip a static reaction to its limit (it may exceed it by round-off only)."""
     if f > c:

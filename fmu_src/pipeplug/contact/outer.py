@@ -1,96 +1,81 @@
-"""Outer (soil/pipe) friction laws of the rigid models, one class per law.
+"""Outer (soil/pipe) friction laws of the rigid models.
 
 The friction of the soil on a pipe sliding in direction ``s1`` is ``f1 = -s1 P1 tau1 Lc(U)``:
 
-* :class:`ConstantContact` (model I): ``Lc = L1``.
-* :class:`GrowingContact` (model II, docs/corrections.md C8/F): ``Lc = min(max(U, 0), L1)``; on each of its
+* :data:`CONSTANT` (model I): ``Lc = L1``.
+* :data:`GROWING` (model II, docs/corrections.md C8/F): ``Lc = min(max(U, 0), L1)``; on each of its
   three segments ``f1`` is affine in ``U``, so a sliding body moves harmonically (forward),
   hyperbolically (backward) or uniformly (no contact, or full contact).
-* :class:`NoContact` (tau1 = 0): absent.
+* :data:`NONE` (tau1 = 0): absent.
 
-Each law answers, for a body at ``U`` sliding in direction ``s1``: the segment it is on
-(``f1 = force0 - kappa U`` there, and where the segment ends ahead), the limit for sticking,
-and the friction work of a slide from ``Ua`` to ``Ub``.
+A law is the tuple ``(kind, F1 [N], k [N/m], L1 [m])`` made by :func:`outer_contact_for`
+(``F1 = P1 L1 tau1``, ``k = P1 tau1``). For a body at ``U`` sliding in direction ``s1`` it
+answers the segment it is on (``f1 = force0 - kappa U`` there, and where the segment ends
+ahead), the limit for sticking, and the friction work of a slide. The functions take floats
+and tuples only, so that numba compiles them (:func:`pipeplug.jit.jitable`) and Python runs
+the same source.
 """
 from __future__ import annotations
 
 import math
 
-__all__ = ["NoContact", "ConstantContact", "GrowingContact", "outer_contact_for"]
+from ..jit import jitable
+
+__all__ = ["NONE", "CONSTANT", "GROWING", "outer_contact_for", "limit", "segment", "work"]
+
+#: kinds of law (floats: a law is a tuple of floats)
+NONE, CONSTANT, GROWING = 0.0, 1.0, 2.0
 
 
-class NoContact:
-    """No outer friction (tau1 = 0)."""
-
-    def limit(self, U: float) -> float:
-        """Static friction limit [N] at position ``U`` [m]."""
-        return 0.0
-
-    def segment(self, U: float, s1: int) -> tuple[float, float, float]:
-        """``(force0 [N], kappa [N/m], end [m])`` with ``f1 = force0 - kappa U`` until ``end``."""
-        return 0.0, 0.0, s1 * math.inf
-
-    def work(self, Ua: float, d, s1: int):
-        """Friction work [J] dissipated sliding from ``Ua`` by ``d`` [m] in direction ``s1``.
-
-        The slide stays on the segment of ``Ua`` (a segment end is an event). ``d`` may be a
-        numpy array (dense output).
-        """
-        return 0.0 * d
+def outer_contact_for(P1, L1, tau1, growth: bool) -> tuple:
+    """The outer friction law the parameters call for (``P1`` [m], ``L1`` [m], ``tau1`` [Pa]:
+    floats, or arrays for many cases at once, giving arrays)."""
+    kind = (tau1 != 0.0) * (GROWING if growth else CONSTANT)       # NONE where tau1 = 0
+    return kind, P1 * L1 * tau1, P1 * tau1, L1
 
 
-class ConstantContact(NoContact):
-    """Model I: friction over the whole pipe length, limit ``F1 = P1 L1 tau1`` [N]."""
-
-    def __init__(self, F1: float):
-        self.F1 = F1
-
-    def limit(self, U: float) -> float:
-        return self.F1
-
-    def segment(self, U: float, s1: int) -> tuple[float, float, float]:
-        return -s1 * self.F1, 0.0, s1 * math.inf
-
-    def work(self, Ua: float, d, s1: int):
-        return s1 * self.F1 * d
+@jitable
+def limit(law, U):
+    """Static friction limit [N] at position ``U`` [m]."""
+    kind, F1, k, L1 = law
+    if kind == CONSTANT:
+        return F1
+    if kind == GROWING:
+        return k * min(max(U, 0.0), L1)
+    return 0.0
 
 
-class GrowingContact(NoContact):
-    """Model II: friction over the penetrated length ``min(max(U, 0), L1)``.
+@jitable
+def segment(law, U, s1):
+    """``(force0 [N], kappa [N/m], end [m])``: ``f1 = force0 - kappa U`` on the segment of a body
+    at ``U`` [m] sliding in direction ``s1``, until ``end``.
 
-    Parameters
-    ----------
-    k : float
-        Friction limit per unit contact length, ``P1 tau1`` [N/m].
-    L1 : float
-        Pipe length [m].
+    Segment boundaries belong to the segment the body enters (by its direction).
     """
-
-    def __init__(self, k: float, L1: float):
-        self.k, self.L1 = k, L1
-
-    def limit(self, U: float) -> float:
-        return self.k * min(max(U, 0.0), self.L1)
-
-    def segment(self, U: float, s1: int) -> tuple[float, float, float]:
-        # Segment boundaries belong to the segment the body enters (by its direction).
-        k, L1 = self.k, self.L1
+    kind, F1, k, L1 = law
+    if kind == CONSTANT:
+        return -s1 * F1, 0.0, s1 * math.inf
+    if kind == GROWING:
         if U > L1 or (U == L1 and s1 > 0):
             return -s1 * k * L1, 0.0, (math.inf if s1 > 0 else L1)
         if U < 0.0 or (U == 0.0 and s1 < 0):
             return 0.0, 0.0, (0.0 if s1 > 0 else -math.inf)
         return 0.0, s1 * k, (L1 if s1 > 0 else 0.0)
+    return 0.0, 0.0, s1 * math.inf
 
-    def work(self, Ua: float, d, s1: int):
+
+@jitable
+def work(law, Ua, d, s1):
+    """Friction work [J] dissipated sliding from ``Ua`` [m] by ``d`` [m] in direction ``s1``.
+
+    The slide stays on the segment of ``Ua`` (a segment end is an event). ``d`` may be an array
+    (dense output).
+    """
+    kind, F1, _, _ = law
+    if kind == CONSTANT:
+        return s1 * F1 * d
+    if kind == GROWING:
         # k * integral of Lc over [Ua, Ua + d], Lc affine on the segment: d times the mean.
-        force0, kappa, _ = self.segment(Ua, s1)
+        force0, kappa, _ = segment(law, Ua, s1)
         return d * (kappa * (Ua + 0.5 * d) - force0)
-
-
-def outer_contact_for(P1: float, L1: float, tau1: float, growth: bool) -> NoContact:
-    """The outer friction law the parameters call for."""
-    if tau1 == 0.0:
-        return NoContact()
-    if growth:
-        return GrowingContact(P1 * tau1, L1)
-    return ConstantContact(P1 * L1 * tau1)
+    return 0.0 * d

@@ -23,7 +23,7 @@ import math
 import numpy as np
 
 from ..contact.coulomb import SLACK, one_contact, two_contacts
-from ..contact.outer import outer_contact_for
+from ..contact.outer import limit, outer_contact_for
 from ..interface import ModelBase, Outputs
 
 __all__ = ["RigidFd", "internal_steps"]
@@ -81,7 +81,7 @@ class RigidFd(ModelBase):
 
     def _step_pair(self, s: dict, q: float, tau: float) -> None:
         """One step of pipe and plug."""
-        c1 = tau * self.outer.limit(s["U1"])
+        c1 = tau * limit(self.outer, s["U1"])
         v1, v2, p1, p2, s1, s2 = two_contacts(
             self.M1, self.M2, s["V1"] + tau * q / self.M1, s["V2"], c1, tau * self.F2,
             _ROUND_OFF * s["p_max"])
@@ -89,7 +89,7 @@ class RigidFd(ModelBase):
 
     def _step_alone(self, s: dict, q: float, tau: float) -> None:
         """One step of the pipe without a plug."""
-        c1 = tau * self.outer.limit(s["U1"])
+        c1 = tau * limit(self.outer, s["U1"])
         trial = s["V1"] + tau * q / self.M1
         # At least the share two_contacts allows: a load 1 ulp above the limit holds the pipe
         # from rest, as it does with a plug.

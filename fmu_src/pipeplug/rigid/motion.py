@@ -13,9 +13,15 @@ accurate as k -> 0 (no large equilibrium offset that cancels)::
 
     k > 0:  S = sin(w t)/w,   C = 2 sin(w t/2)^2 / k,     S' = cos(w t)
     k < 0:  S = sinh(l t)/l,  C = 2 sinh(l t/2)^2 / (-k), S' = cosh(l t)
-
-(evaluated without dividing by w or k, see :meth:`Motion._basis`)
     k = 0:  S = t,            C = t^2/2,                  S' = 1
+
+(evaluated without dividing by w or k, see :func:`_basis`).
+
+A motion is the tuple ``(U0 [m], V0 [m/s], a0 [m/s^2], k [1/s^2], w [1/s])`` made by
+:func:`motion` (``w = sqrt(|k|)``), times are measured from its start. The functions take
+floats and tuples only, so that numba compiles them (:func:`pipeplug.jit.jitable`) and Python
+runs the same source; :func:`travel` and :func:`state` also take an array of times (dense
+output).
 """
 from __future__ import annotations
 
@@ -23,171 +29,247 @@ import math
 
 import numpy as np
 
-__all__ = ["Motion", "refine_root"]
+from ..jit import jitable
+
+__all__ = ["motion", "travel", "state", "acceleration_at", "time_to_rest", "time_to_position",
+           "refine_root", "ulp", "POSITION", "RELATIVE_VELOCITY"]
 
 _INF = math.inf
 
-
-class Motion:
-    """One body's motion over one piece (times measured from the piece start).
-
-    Parameters
-    ----------
-    U0 : float
-        Position at the piece start [m].
-    V0 : float
-        Velocity at the piece start [m/s].
-    a0 : float
-        Acceleration at the piece start [m/s^2].
-    k : float
-        Stiffness per unit mass kappa/M [1/s^2]; the acceleration is ``a0 - k (U - U0)``.
-    """
-
-    __slots__ = ("U0", "V0", "a0", "k", "_w")
-
-    def __init__(self, U0: float, V0: float, a0: float, k: float = 0.0):
-        self.U0, self.V0, self.a0, self.k = U0, V0, a0, k
-        self._w = math.sqrt(abs(k))
-
-    def _basis(self, t):
-        """(S, C, S') at time ``t`` [s] (a float, or a numpy array for dense output).
-
-        Written as ``S = t f(w t) / (w t)`` and ``C = t^2/2 (f(w t/2) / (w t/2))^2`` (f = sin,
-        or sinh for k < 0), the same functions, with no division by a tiny ``w`` or ``k``: the
-        squared sine of a tiny ``w t`` underflows (at tau1 = 1e-295 Pa, C was garbage).
-        """
-        k, w = self.k, self._w
-        if k == 0.0:
-            return t, 0.5 * t * t, 1.0
-        fn = math if isinstance(t, float) else np
-        f, df = (fn.sin, fn.cos) if k > 0.0 else (fn.sinh, fn.cosh)
-        x = w * t
-        half = _over_x(f, 0.5 * x)
-        return t * _over_x(f, x), 0.5 * t * t * half * half, df(x)
-
-    def state(self, t):
-        """Position [m] and velocity [m/s] at time ``t`` [s] after the piece start.
-
-        ``t`` may be a float or a numpy array (then both results are arrays).
-        """
-        d, V = self.travel(t)
-        return self.U0 + d, V
-
-    def travel(self, t):
-        """Displacement since the piece start [m] and velocity [m/s] at time ``t`` [s].
-
-        Works are computed from the displacement itself, never as a difference of two
-        positions, which would lose the digits the positions share.
-        """
-        if self.k == 0.0:                 # uniform acceleration, the common case: fewer ops
-            V0, a0 = self.V0, self.a0
-            return t * (V0 + 0.5 * a0 * t), V0 + a0 * t
-        S, C, dS = self._basis(t)
-        return self.V0 * S + self.a0 * C, self.V0 * dS + self.a0 * S
-
-    def acceleration_at(self, U: float) -> float:
-        """Acceleration [m/s^2] when the body is at position ``U`` [m]."""
-        return self.a0 - self.k * (U - self.U0)
-
-    def time_to_rest(self, sgn: int) -> float:
-        """First time t > 0 at which the velocity, of sign ``sgn`` at the start, reaches zero.
-
-        Closed form (atan2 for harmonic, atanh for hyperbolic, division for uniform pieces).
-        Returns ``inf`` if it never does. ``sgn * V0 >= 0``; if ``V0 == 0`` the body starts
-        from rest and ``sgn * a0`` should be positive.
-        """
-        v, a = sgn * self.V0, sgn * self.a0
-        if v <= 0.0 and a <= 0.0:
-            return 0.0
-        k, w = self.k, self._w
-        if k == 0.0:
-            return v / -a if a < 0.0 else _INF
-        if k > 0.0:
-            return math.atan2(v, -a / w) / w
-        if a < 0.0 and v * w < -a:
-            return math.atanh(v * w / -a) / w
-        return _INF
-
-    def time_to_position(self, target: float, t_max: float, xtol: float = 0.0) -> float:
-        """First time in (0, t_max] at which U(t) = ``target``, or ``inf``.
-
-        The caller guarantees the motion is monotone on [0, t_max] (the velocity does not
-        change sign inside a piece: its zero is itself an event).
-        """
-        g0 = self.U0 - target
-        g1 = self.state(t_max)[0] - target
-        if g0 == 0.0 or g0 * g1 > 0.0:
-            return _INF
-        if self.k == 0.0:
-            return _first_quadratic_root(0.5 * self.a0, self.V0, g0, t_max)
-        return refine_root(lambda t: self.state(t)[0] - target,
-                           lambda t: self.state(t)[1], 0.0, t_max, xtol)
+#: what :func:`refine_root` zeroes: the position minus a target, or the velocity minus that of
+#: a uniformly accelerated second body
+POSITION, RELATIVE_VELOCITY = 0, 1
 
 
-def _over_x(f, x):
-    """f(x) / x, 1 at x = 0 (``x`` a float or a numpy array)."""
+@jitable
+def motion(U0, V0, a0, k=0.0):
+    """The motion starting at ``U0`` [m] with ``V0`` [m/s] and acceleration ``a0`` [m/s^2],
+    stiffness per unit mass ``k`` [1/s^2]: ``(U0, V0, a0, k, w)``."""
+    return U0, V0, a0, k, math.sqrt(abs(k))
+
+
+@jitable
+def ulp(x):
+    """The unit in the last place of ``x`` (``math.ulp``, in a form numba compiles)."""
+    x = abs(x)
+    if not x < _INF:
+        return x                             # inf or nan
+    if x == 0.0:
+        return 5e-324
+    _, e = math.frexp(x)                     # x = m 2^e, 0.5 <= m < 1
+    return max(math.ldexp(1.0, e - 53), 5e-324)
+
+
+# Trigonometry of a float (math) or of an array of times (numpy): numba resolves the branch when
+# it compiles, Python when it runs.
+@jitable
+def _cos(x):
     if isinstance(x, float):
-        return f(x) / x if x != 0.0 else 1.0
+        return math.cos(x)
+    return np.cos(x)
+
+
+@jitable
+def _cosh(x):
+    if isinstance(x, float):
+        return math.cosh(x)
+    return np.cosh(x)
+
+
+@jitable
+def _sin_over_x(x):
+    """sin(x)/x, 1 at x = 0 (``x`` a float or an array)."""
+    if isinstance(x, float):
+        return math.sin(x) / x if x != 0.0 else 1.0
     safe = np.where(x == 0.0, 1.0, x)
-    return np.where(x == 0.0, 1.0, f(safe) / safe)
+    return np.where(x == 0.0, 1.0, np.sin(safe) / safe)
 
 
-def _first_quadratic_root(a: float, b: float, c: float, t_max: float) -> float:
+@jitable
+def _sinh_over_x(x):
+    """sinh(x)/x, 1 at x = 0 (``x`` a float or an array)."""
+    if isinstance(x, float):
+        return math.sinh(x) / x if x != 0.0 else 1.0
+    safe = np.where(x == 0.0, 1.0, x)
+    return np.where(x == 0.0, 1.0, np.sinh(safe) / safe)
+
+
+@jitable
+def _basis(k, w, t):
+    """(S, C, S') of a motion with ``k != 0`` at time(s) ``t`` [s].
+
+    Written as ``S = t f(w t) / (w t)`` and ``C = t^2/2 (f(w t/2) / (w t/2))^2`` (f = sin, or
+    sinh for k < 0), the same functions, with no division by a tiny ``w`` or ``k``: the squared
+    sine of a tiny ``w t`` underflows (at tau1 = 1e-295 Pa, C was garbage).
+    """
+    x = w * t
+    if k > 0.0:
+        half = _sin_over_x(0.5 * x)
+        return t * _sin_over_x(x), 0.5 * t * t * half * half, _cos(x)
+    half = _sinh_over_x(0.5 * x)
+    return t * _sinh_over_x(x), 0.5 * t * t * half * half, _cosh(x)
+
+
+@jitable(inline=True)
+def travel(m, t):
+    """Displacement since the start [m] and velocity [m/s] at time(s) ``t`` [s].
+
+    Works are computed from the displacement itself, never as a difference of two positions,
+    which would lose the digits the positions share.
+    """
+    _, V0, a0, k, w = m
+    if k == 0.0:                 # uniform acceleration, the common case: fewer operations
+        return t * (V0 + 0.5 * a0 * t), V0 + a0 * t
+    return _travel_curved(V0, a0, k, w, t)
+
+
+@jitable
+def _travel_curved(V0, a0, k, w, t):
+    """:func:`travel` of a harmonic or hyperbolic motion (apart, so that compiled code inlines
+    the short uniform case into its loops)."""
+    S, C, dS = _basis(k, w, t)
+    return V0 * S + a0 * C, V0 * dS + a0 * S
+
+
+@jitable
+def state(m, t):
+    """Position [m] and velocity [m/s] at time(s) ``t`` [s] after the start."""
+    d, V = travel(m, t)
+    return m[0] + d, V
+
+
+@jitable
+def acceleration_at(m, U):
+    """Acceleration [m/s^2] when the body is at position ``U`` [m]."""
+    return m[2] - m[3] * (U - m[0])
+
+
+@jitable
+def time_to_rest(m, sgn):
+    """First time t > 0 [s] at which the velocity, of sign ``sgn`` at the start, reaches zero.
+
+    Closed form (atan2 for harmonic, atanh for hyperbolic, division for uniform motion).
+    Returns ``inf`` if it never does. ``sgn * V0 >= 0``; if ``V0 == 0`` the body starts from
+    rest and ``sgn * a0`` should be positive.
+    """
+    _, V0, a0, k, w = m
+    v, a = sgn * V0, sgn * a0
+    if v <= 0.0 and a <= 0.0:
+        return 0.0
+    if k == 0.0:
+        return v / -a if a < 0.0 else _INF
+    if k > 0.0:
+        return math.atan2(v, -a / w) / w
+    if a < 0.0 and v * w < -a:
+        return math.atanh(v * w / -a) / w
+    return _INF
+
+
+@jitable
+def time_to_position(m, target, t_max, xtol=0.0):
+    """First time in (0, t_max] [s] at which U(t) = ``target`` [m], or ``inf``.
+
+    The caller guarantees the motion is monotone on [0, t_max] (the velocity does not change
+    sign inside a piece: its zero is itself an event). ``xtol`` [s]: the resolution of time.
+    """
+    g0 = m[0] - target
+    g1 = state(m, t_max)[0] - target
+    if g0 == 0.0 or g0 * g1 > 0.0:
+        return _INF
+    if m[3] == 0.0:
+        return _first_quadratic_root(0.5 * m[2], m[1], g0, t_max)
+    return refine_root(POSITION, m, target, 0.0, 0.0, 0.0, t_max, xtol)
+
+
+@jitable
+def _first_quadratic_root(a, b, c, t_max):
     """Smallest root in (0, t_max] of a t^2 + b t + c (a sign change is known to exist)."""
     if a == 0.0:
         return -c / b
     disc = max(b * b - 4.0 * a * c, 0.0)
     q = -0.5 * (b + math.copysign(math.sqrt(disc), b))
-    roots = [r for r in ((q / a) if q != 0.0 else _INF, (c / q) if q != 0.0 else _INF)
-             if 0.0 < r]
-    best = min(roots) if roots else t_max
+    r1 = (q / a) if q != 0.0 else _INF
+    r2 = (c / q) if q != 0.0 else _INF
+    best = t_max                      # no positive root: the bracket's end
+    if 0.0 < r1:
+        best = r1
+        if 0.0 < r2 and r2 < best:
+            best = r2
+    elif 0.0 < r2:
+        best = r2
     return min(best, t_max)
 
 
-def refine_root(g, dg, a: float, b: float, xtol: float = 0.0) -> float:
-    """The root of ``g`` in a bracket [a, b] where ``g(a)`` and ``g(b)`` differ in sign.
+@jitable
+def _g(kind, m, target, V2, a2, t):
+    """The function whose root :func:`refine_root` finds, at ``t`` [s]: U(t) - target [m]
+    (``kind`` POSITION), or V(t) - (V2 + a2 t) [m/s] (RELATIVE_VELOCITY)."""
+    if kind == POSITION:
+        return state(m, t)[0] - target
+    return travel(m, t)[1] - (V2 + a2 * t)
+
+
+@jitable
+def _dg(kind, m, target, V2, a2, t):
+    """Time derivative of :func:`_g`."""
+    if kind == POSITION:
+        return state(m, t)[1]
+    return acceleration_at(m, state(m, t)[0]) - a2
+
+
+@jitable
+def refine_root(kind, m, target, V2, a2, a, b, xtol=0.0):
+    """The root in a bracket [a, b] [s] of the function ``kind`` of motion ``m`` (see
+    :func:`_g`: ``target`` [m] for POSITION; ``V2`` [m/s] and ``a2`` [m/s^2] of the second body
+    for RELATIVE_VELOCITY), whose values at ``a`` and ``b`` differ in sign.
 
     Safeguarded Newton: a Newton step from the latest iterate when it stays inside the
     bracket, bisection otherwise; the bracket shrinks with every evaluation. Stops when the
-    update or the bracket is a few ulps wide, or narrower than ``xtol`` (the caller's time
+    update or the bracket is a few ulps wide, or narrower than ``xtol`` [s] (the caller's time
     resolution: a root sooner after ``a`` than time can resolve, approached only linearly by
     Newton, is no better known below it). Newton converges from one side on a convex or
-    concave ``g``, so the far bracket end may never move: a converged Newton iterate is the
+    concave function, so the far bracket end may never move: a converged Newton iterate is the
     answer, not that end.
 
-    Returns the first float at which ``g`` has left the sign of ``g(a)`` (reached 0 or
-    crossed), in (a, b]: the converged iterate is walked there ulp by ulp. Where the
+    Returns the first float at which the function has left the sign it has at ``a`` (reached 0
+    or crossed), in (a, b]: the converged iterate is walked there ulp by ulp. Where the
     iteration stops depends on the bracket, and the bracket on how far the search looked
-    ahead, that is on the host's step ends; that float does not, so a run's events, and
-    with them its outputs, do not depend on the communication grid (an event time one ulp
-    apart, times a pipe braking at 5000 m/s^2, moved a plug's velocity by 1.3e-12 of the
-    velocity scale between two grids).
+    ahead, that is on the host's step ends; that float does not, so a run's events, and with
+    them its outputs, do not depend on the communication grid (an event time one ulp apart,
+    times a pipe braking at 5000 m/s^2, moved a plug's velocity by 1.3e-12 of the velocity
+    scale between two grids).
     """
-    positive = g(a) > 0.0
-    return _first_past(g, _newton(g, dg, a, b, xtol), a, b, positive)
+    positive = _g(kind, m, target, V2, a2, a) > 0.0
+    t = _newton(kind, m, target, V2, a2, a, b, xtol)
+    return _first_past(kind, m, target, V2, a2, t, a, b, positive)
 
 
-def _newton(g, dg, a: float, b: float, xtol: float) -> float:
+@jitable
+def _newton(kind, m, target, V2, a2, a, b, xtol):
     """An iterate within a few ulps of the root (see :func:`refine_root`)."""
-    ga, gb = g(a), g(b)
+    ga = _g(kind, m, target, V2, a2, a)
+    gb = _g(kind, m, target, V2, a2, b)
     if gb == 0.0:
         return b
-    t, gt = (b, gb) if abs(gb) < abs(ga) else (a, ga)
+    if abs(gb) < abs(ga):
+        t, gt = b, gb
+    else:
+        t, gt = a, ga
     for _ in range(200):
-        d = dg(t)
+        d = _dg(kind, m, target, V2, a2, t)
         new = t - gt / d if d != 0.0 else 0.5 * (a + b)
         if not a < new < b:
             new = 0.5 * (a + b)
-        g_new = g(new)
+        g_new = _g(kind, m, target, V2, a2, new)
         if g_new == 0.0:
             return new
         if (g_new > 0.0) == (ga > 0.0):
             a, ga = new, g_new
         else:
             b, gb = new, g_new
-        if abs(new - t) <= 4.0 * math.ulp(new):
+        if abs(new - t) <= 4.0 * ulp(new):
             return new
-        if b - a <= max(4.0 * math.ulp(b), xtol):
+        if b - a <= max(4.0 * ulp(b), xtol):
             return b
         t, gt = new, g_new
     return b
@@ -196,22 +278,27 @@ def _newton(g, dg, a: float, b: float, xtol: float) -> float:
 _WALK = 64          # ulps walked at most from the Newton iterate to the first float past
 
 
-def _first_past(g, t: float, a: float, b: float, positive: bool) -> float:
-    """The first float in (a, b] at which ``g`` is 0 or has the sign opposite to
-    ``positive``, walking from ``t`` (which is within a few ulps of it)."""
-    def past(x):
-        gx = g(x)
-        return gx == 0.0 or (gx > 0.0) != positive
+@jitable
+def _past(kind, m, target, V2, a2, t, positive):
+    """True when the function ``kind`` (see :func:`_g`) is 0 at ``t`` [s] or has the sign
+    opposite to ``positive``."""
+    g = _g(kind, m, target, V2, a2, t)
+    return g == 0.0 or (g > 0.0) != positive
 
-    if past(t):
+
+@jitable
+def _first_past(kind, m, target, V2, a2, t, a, b, positive):
+    """The first float in (a, b] [s] at which the function ``kind`` is 0 or has the sign
+    opposite to ``positive``, walking from ``t`` [s] (which is within a few ulps of it)."""
+    if _past(kind, m, target, V2, a2, t, positive):
         for _ in range(_WALK):
-            before = math.nextafter(t, -math.inf)
-            if before <= a or not past(before):
+            before = math.nextafter(t, -_INF)
+            if before <= a or not _past(kind, m, target, V2, a2, before, positive):
                 return t
             t = before
         return t
     for _ in range(_WALK):
-        t = math.nextafter(t, math.inf)
-        if t >= b or past(t):
+        t = math.nextafter(t, _INF)
+        if t >= b or _past(kind, m, target, V2, a2, t, positive):
             return min(t, b)
     return t

@@ -1,241 +1,337 @@
 """Pieces of rigid motion between two events, and the events that end them.
 
 A piece starts from an origin state with fixed contact modes and a constant force Q. Its
-motion is known in closed form (:class:`~pipeplug.rigid.motion.Motion`), so every quantity at a time
+motion is known in closed form (:mod:`~pipeplug.rigid.motion`), so every quantity at a time
 ``dt`` after the origin is evaluated from the origin (never accumulated step by step): the
 outputs do not depend on how a host slices time.
 
 Kinds of piece (s1 = pipe/soil mode, s2 = pipe/plug mode, 0 = stuck):
 
-* :class:`AtRest`     s1 = 0, s2 = 0: nothing moves; friction forces are static reactions.
-* :class:`PlugSlides` s1 = 0, s2 != 0: the pipe is held by the soil, the plug slides in it.
-* :class:`Together`   s1 != 0, s2 = 0: pipe and plug move as one body (or the pipe alone when
+* :data:`AT_REST`     s1 = 0, s2 = 0: nothing moves; friction forces are static reactions.
+* :data:`PLUG_SLIDES` s1 = 0, s2 != 0: the pipe is held by the soil, the plug slides in it.
+* :data:`TOGETHER`    s1 != 0, s2 = 0: pipe and plug move as one body (or the pipe alone when
   there is no plug); ends when it stops, changes contact segment, or the plug breaks away.
-* :class:`BothSlide`  s1 != 0, s2 != 0: ends when the pipe stops, changes contact segment, or
+* :data:`BOTH_SLIDE`  s1 != 0, s2 != 0: ends when the pipe stops, changes contact segment, or
   the relative velocity vanishes.
 
-Events are labelled: ``"pipe_rest"``, ``"plug_rest"``, ``"stick"``, ``"segment"``,
-``"breakaway+"``/``"breakaway-"`` (the plug starts sliding with s2 = +1/-1).
+A piece is two closed-form motions, the pipe's and the plug's (a body at rest has a motion of
+zeros, a carried plug the pipe's), its friction forces (static reactions of stuck contacts) and
+its outer contact segment. It lives in the state record (:mod:`~pipeplug.rigid.record`):
+:func:`make_piece` decides the modes and writes it there, the other functions read it. Events are bits of a label set:
+:data:`PIPE_REST`, :data:`PLUG_REST`, :data:`STICK`, :data:`SEGMENT`, :data:`BREAKAWAY_POS`,
+:data:`BREAKAWAY_NEG` (the plug starts sliding with s2 = +1/-1). Evaluations take a time or an
+array of times (dense output).
 """
 from __future__ import annotations
 
 import math
 
-from .motion import Motion, refine_root
+from ..contact.coulomb import SLACK, one_contact, two_contacts
+from ..contact.outer import limit, segment, work
+from ..jit import jitable
+from .motion import (
+    RELATIVE_VELOCITY,
+    acceleration_at,
+    motion,
+    refine_root,
+    time_to_position,
+    time_to_rest,
+    travel,
+    ulp,
+)
+from .record import (
+    A1,
+    A2,
+    END,
+    FORCE0,
+    FS1,
+    FS2,
+    K1,
+    K2,
+    KAPPA,
+    KIND,
+    P_COUPLED,
+    P_F2,
+    P_LAW,
+    P_M1,
+    P_M2,
+    S1,
+    S2,
+    T0,
+    U1,
+    U2,
+    V1,
+    V2,
+    W1,
+    W2,
+)
 
-__all__ = ["AtRest", "PlugSlides", "Together", "BothSlide"]
+__all__ = ["AT_REST", "PLUG_SLIDES", "TOGETHER", "BOTH_SLIDE", "PIPE_REST", "PLUG_REST", "STICK",
+           "SEGMENT", "BREAKAWAY_POS", "BREAKAWAY_NEG", "make_piece", "kinematics",
+           "forces_of",
+           "friction_work_of", "find_event", "pipe_of", "plug_of", "law_of"]
 
 _INF = math.inf
 
-
-class _Piece:
-    """Common data: origin time ``t0`` [s], modes, struck-end force ``Q`` [N]."""
-
-    s1 = 0
-    s2 = 0
-
-    def __init__(self, t0, Q, origin):
-        self.t0, self.Q = t0, Q
-        self.U1, self.V1, self.U2, self.V2 = origin
-
-    def find_event(self, horizon: float) -> tuple[float, tuple[str, ...]]:
-        """Time after ``t0`` of the first event within ``horizon`` [s], and its labels."""
-        return _INF, ()
-
-    def _resolution(self, t_lim: float) -> float:
-        """The resolution of absolute time near ``t0 + t_lim`` [s]: an event time after
-        ``t0`` is not better known than this, so root searches stop there."""
-        return 2.0 * math.ulp(self.t0 + t_lim)
+#: kinds of piece
+AT_REST, PLUG_SLIDES, TOGETHER, BOTH_SLIDE = 0.0, 1.0, 2.0, 3.0
+#: event labels (bits)
+PIPE_REST, PLUG_REST, STICK, SEGMENT, BREAKAWAY_POS, BREAKAWAY_NEG = 1, 2, 4, 8, 16, 32
 
 
-class AtRest(_Piece):
-    """Pipe stuck to the soil and plug stuck to the pipe (both at rest)."""
+@jitable
+def law_of(par):
+    """The outer friction law of the constants ``par``."""
+    return par[P_LAW], par[P_LAW + 1], par[P_LAW + 2], par[P_LAW + 3]
 
-    def __init__(self, t0, Q, origin, f1, f2):
-        super().__init__(t0, Q, origin)
-        self.f1, self.f2 = f1, f2
 
-    def travel(self, dt):
-        """Displacements since the origin [m] and velocities [m/s] at ``dt`` [s] after it:
-        ``(d1, V1, d2, V2)`` (floats, or arrays for an array ``dt``)."""
-        zero = 0.0 * dt
-        return zero, zero, zero, zero
+@jitable(inline=True)
+def pipe_of(st):
+    """The pipe's motion in the current piece (:func:`~pipeplug.rigid.motion.motion`)."""
+    return st[U1], st[V1], st[A1], st[K1], st[W1]
 
-    def forces(self, U1):
-        """Friction forces on the pipe ``(f1, f2)`` [N] when the pipe is at ``U1``."""
-        zero = 0.0 * U1
-        return self.f1 + zero, self.f2 + zero
 
-    def friction_work(self, d1, d2):
-        """Friction work [J] since the origin, outer and inner, after displacements ``d1``,
-        ``d2`` [m] of pipe and plug."""
+@jitable(inline=True)
+def plug_of(st):
+    """The plug's motion in the current piece (the pipe's when it carries the plug)."""
+    return st[U2], st[V2], st[A2], st[K2], st[W2]
+
+
+@jitable
+def _sign(x):
+    if x > 0.0:
+        return 1
+    if x < 0.0:
+        return -1
+    return 0
+
+
+@jitable
+def make_piece(st, par, t0, u1, v1, u2, v2, q, kick):
+    """Decide the contact modes at the origin ``(u1, v1, u2, v2)`` [m, m/s] at time ``t0`` [s]
+    under the force ``q`` [N] and write the piece into ``st``.
+
+    The modes of sliding contacts are kept; stuck ones are decided by solving both contacts
+    jointly (:func:`~pipeplug.contact.coulomb.two_contacts`) under the sliding forces. ``kick``
+    (-1, 0, 1) makes a stuck plug break away in that direction.
+    """
+    m1, m2, f2_limit = par[P_M1], par[P_M2], par[P_F2]
+    coupled = par[P_COUPLED] != 0.0
+    law = law_of(par)
+    s1 = _sign(v1)
+    s2 = _sign(v1 - v2) if coupled else 0
+    c1 = limit(law, u1)
+    f1_sliding = -s1 * c1 if s1 != 0 else 0.0
+    f2_sliding = -s2 * f2_limit
+    w1 = (q + f1_sliding + f2_sliding) / m1
+    w2 = -f2_sliding / m2 if coupled else 0.0
+    c1_static = 0.0 if s1 != 0 else c1
+    c2_static = 0.0 if s2 != 0 else f2_limit
+    if coupled:
+        _, _, f1s, f2s, p1, p2 = two_contacts(m1, m2, w1, w2, c1_static, c2_static, 0.0)
+    else:
+        # The round-off share two_contacts always allows: a load at the limit to round-off
+        # (1 ulp above it, as Q = F1 computed in another order) holds the pipe, plug or not.
+        x1, f1s = one_contact(m1, w1, c1_static, SLACK * (abs(m1 * w1) + c1_static))
+        p1, p2, f2s = _sign(x1), 0, 0.0
+    if s1 == 0:
+        s1 = p1
+    if s2 == 0:
+        s2 = kick if kick != 0 else p2
+    st[T0], st[U1], st[V1], st[U2], st[V2] = t0, u1, v1, u2, v2
+    st[S1], st[S2] = float(s1), float(s2)
+    st[A1] = st[K1] = st[W1] = st[A2] = st[K2] = st[W2] = 0.0     # at rest until set
+    if s2 != 0:                       # the plug slides in the pipe: uniform deceleration
+        st[A2] = s2 * f2_limit / m2
+    if s1 == 0:
+        st[FS1] = f1_sliding + f1s
+        if s2 == 0:
+            st[KIND], st[FS2] = AT_REST, f2_sliding + f2s
+        else:
+            st[KIND] = PLUG_SLIDES
+        return
+    force0, kappa, end = segment(law, u1, float(s1))
+    st[FORCE0], st[KAPPA], st[END] = force0, kappa, end
+    if s2 == 0:                       # the pipe carries the plug
+        st[KIND] = TOGETHER
+        mass = m1 + m2
+        a0 = (q + force0 - kappa * u1) / mass
+    else:
+        st[KIND] = BOTH_SLIDE
+        mass = m1
+        a0 = (q + force0 - kappa * u1 - s2 * f2_limit) / m1
+    _, _, st[A1], st[K1], st[W1] = motion(u1, v1, a0, kappa / mass)
+    if s2 == 0 and coupled:
+        st[A2], st[K2], st[W2] = st[A1], st[K1], st[W1]
+
+
+@jitable(inline=True)
+def kinematics(pipe, plug, dt):
+    """``(V1, V2, U1, U2)`` [m/s, m] of the motions ``pipe`` and ``plug`` at ``dt`` [s] after
+    their start (floats, or arrays for an array ``dt``).
+
+    Every kind of piece is two motions (a body at rest has a motion of zeros, a carried plug
+    the pipe's), so this has no branch: compiled dense output runs it in a tight loop.
+    """
+    d1, v1 = travel(pipe, dt)
+    d2, v2 = travel(plug, dt)
+    return v1, v2, pipe[0] + d1, plug[0] + d2
+
+
+@jitable
+def forces_of(st, par, u1):
+    """Friction forces on the pipe ``(f1, f2)`` [N] when the pipe is at ``u1`` [m]."""
+    kind = st[KIND]
+    zero = 0.0 * u1
+    if kind == AT_REST:
+        return st[FS1] + zero, st[FS2] + zero
+    if kind == PLUG_SLIDES:
+        return st[FS1] + zero, -st[S2] * par[P_F2] + zero
+    f1 = st[FORCE0] - st[KAPPA] * u1
+    if kind == TOGETHER:
+        if par[P_COUPLED] == 0.0:
+            return f1, zero
+        return f1, -par[P_M2] * acceleration_at(pipe_of(st), u1)
+    return f1, -st[S2] * par[P_F2] + zero
+
+
+@jitable
+def friction_work_of(st, par, d1, d2):
+    """Friction work [J] since the origin, outer and inner, after displacements ``d1``, ``d2``
+    [m] of pipe and plug."""
+    kind = st[KIND]
+    if kind == AT_REST:
         zero = 0.0 * d1
         return zero, zero
+    if kind == PLUG_SLIDES:
+        return 0.0 * d1, -par[P_F2] * st[S2] * d2
+    outer = work(law_of(par), st[U1], d1, st[S1])
+    if kind == TOGETHER:
+        return outer, 0.0 * d1
+    # The plug's work is >= 0 (its force opposes the relative motion), but the relative
+    # displacement is a difference of two: a piece that starts at zero relative velocity and
+    # acceleration (a breakaway) and is cut short by another event can leave it below their
+    # round-off, of either sign (-1e-33 J once). Dissipation is never negative.
+    inner = par[P_F2] * st[S2] * (d1 - d2)
+    return outer, inner * (inner > 0.0)
 
 
-class PlugSlides(_Piece):
-    """Pipe held by the soil; the plug slides with constant deceleration ``s2 F2 / M2``."""
-
-    def __init__(self, t0, Q, origin, s2, f1, F2, M2):
-        super().__init__(t0, Q, origin)
-        self.s2, self.f1, self.F2 = s2, f1, F2
-        self.plug = Motion(self.U2, self.V2, s2 * F2 / M2)
-
-    def travel(self, dt):
-        d2, V2 = self.plug.travel(dt)
-        zero = 0.0 * dt
-        return zero, zero, d2, V2
-
-    def forces(self, U1):
-        zero = 0.0 * U1
-        return self.f1 + zero, -self.s2 * self.F2 + zero
-
-    def friction_work(self, d1, d2):
-        return 0.0 * d1, -self.F2 * self.s2 * d2
-
-    def find_event(self, horizon):
-        # The plug moves with sign -s2 (the pipe is at rest).
-        return self.plug.time_to_rest(-self.s2), ("plug_rest",)
-
-
-class Together(_Piece):
-    """Pipe (and plug, if coupled) sliding as one body of mass ``Mj`` on the soil."""
-
-    def __init__(self, t0, Q, origin, s1, outer, Mj, plug_limit, M2):
-        super().__init__(t0, Q, origin)
-        self.s1, self.outer = s1, outer
-        force0, kappa, self.end = outer.segment(self.U1, s1)
-        self.force0, self.kappa = force0, kappa
-        a0 = (Q + force0 - kappa * self.U1) / Mj
-        self.pipe = Motion(self.U1, self.V1, a0, kappa / Mj)   # the pipe carries the plug
-        self.plug_limit, self.M2 = plug_limit, M2   # plug_limit = F2/M2, or None (no plug)
-
-    def travel(self, dt):
-        d1, V1 = self.pipe.travel(dt)
-        if self.plug_limit is None:
-            return d1, V1, 0.0 * d1, 0.0 * d1
-        return d1, V1, d1, V1
-
-    def forces(self, U1):
-        f1 = self.force0 - self.kappa * U1
-        if self.plug_limit is None:
-            return f1, 0.0 * U1
-        return f1, -self.M2 * self.pipe.acceleration_at(U1)
-
-    def friction_work(self, d1, d2):
-        return self.outer.work(self.U1, d1, self.s1), 0.0 * d1
-
-    def find_event(self, horizon):
-        body, s1 = self.pipe, self.s1
-        t_rest = body.time_to_rest(s1)
-        t_lim = min(t_rest, horizon)
-        found = [(t_rest, "pipe_rest")]
-        found.append((body.time_to_position(self.end, t_lim, self._resolution(t_lim)),
-                      "segment"))
-        if self.plug_limit is not None and body.k != 0.0:
-            found.extend(self._breakaways(t_lim))
-        return _earliest(found)
-
-    def _breakaways(self, t_lim):
-        """Times at which the plug's static force reaches its limit, with their labels.
-
-        The plug needs -f2 = M2 a(U), a(U) = a0 - k (U - U0); it breaks away where s a(U)
-        reaches F2/M2 (s = +1: breakaway+, s = -1: breakaway-). The piece may start with
-        s a0 at the limit to round-off (it was chosen by the projection's slack): then the
-        plug breaks away at once if s a grows as the body moves, else never on this side.
-        """
-        body, limit = self.pipe, self.plug_limit
-        moving = self.s1 * body.k             # s a(U) grows as the body moves iff -s moving > 0
-        for s, label in ((1, "breakaway+"), (-1, "breakaway-")):
-            if s * body.a0 >= limit:
-                if -s * moving > 0.0:
-                    yield 0.0, label
-                continue
-            U_lim = self.U1 + (body.a0 - s * limit) / body.k
-            yield body.time_to_position(U_lim, t_lim, self._resolution(t_lim)), label
+@jitable
+def find_event(st, par, horizon):
+    """Time [s] after the piece start of its first event within ``horizon`` [s], and its
+    labels (``inf, 0`` when there is none)."""
+    kind = st[KIND]
+    if kind == AT_REST:
+        return _INF, 0
+    if kind == PLUG_SLIDES:           # the plug moves with sign -s2 (the pipe is at rest)
+        return time_to_rest(plug_of(st), -st[S2]), PLUG_REST
+    pipe = pipe_of(st)
+    t_rest = time_to_rest(pipe, st[S1])
+    t_lim = min(t_rest, horizon)
+    xtol = _resolution(st[T0], t_lim)
+    t_segment = time_to_position(pipe, st[END], t_lim, xtol)
+    if kind == BOTH_SLIDE:
+        t_stick = _time_to_stick(st, t_lim)
+        return _earliest(t_rest, PIPE_REST, t_segment, SEGMENT, t_stick, STICK, _INF, 0)
+    t_pos = t_neg = _INF
+    if par[P_COUPLED] != 0.0 and pipe[3] != 0.0:
+        t_pos, t_neg = _breakaways(st, par, t_lim, xtol)
+    return _earliest(t_rest, PIPE_REST, t_segment, SEGMENT, t_pos, BREAKAWAY_POS, t_neg,
+                     BREAKAWAY_NEG)
 
 
-class BothSlide(_Piece):
-    """Pipe sliding on the soil and the plug sliding in the pipe."""
+@jitable
+def _resolution(t0, t_lim):
+    """The resolution of absolute time near ``t0 + t_lim`` [s]: an event time after ``t0`` is
+    not better known than this, so root searches stop there."""
+    return 2.0 * ulp(t0 + t_lim)
 
-    def __init__(self, t0, Q, origin, s1, s2, outer, M1, F2, M2):
-        super().__init__(t0, Q, origin)
-        self.s1, self.s2, self.outer, self.F2 = s1, s2, outer, F2
-        force0, kappa, self.end = outer.segment(self.U1, s1)
-        self.force0, self.kappa = force0, kappa
-        a0 = (Q + force0 - kappa * self.U1 - s2 * F2) / M1
-        self.pipe = Motion(self.U1, self.V1, a0, kappa / M1)
-        self.plug = Motion(self.U2, self.V2, s2 * F2 / M2)
 
-    def travel(self, dt):
-        d1, V1 = self.pipe.travel(dt)
-        d2, V2 = self.plug.travel(dt)
-        return d1, V1, d2, V2
+@jitable
+def _breakaways(st, par, t_lim, xtol):
+    """Times [s] at which the carried plug's static force reaches its limit forward and
+    backward (``inf``: not within ``t_lim``).
 
-    def forces(self, U1):
-        return self.force0 - self.kappa * U1, -self.s2 * self.F2 + 0.0 * U1
+    The plug needs -f2 = M2 a(U), a(U) = a0 - k (U - U0); it breaks away where s a(U) reaches
+    F2/M2 (s = +1: breakaway+, s = -1: breakaway-). The piece may start with s a0 at the limit
+    to round-off (it was chosen by the projection's slack): then the plug breaks away at once if
+    s a grows as the body moves, else never on this side.
+    """
+    pipe = pipe_of(st)
+    a0, k = pipe[2], pipe[3]
+    plug_limit = par[P_F2] / par[P_M2]
+    moving = st[S1] * k               # s a(U) grows as the body moves iff -s moving > 0
+    t_pos = t_neg = _INF
+    for s in (1, -1):
+        if s * a0 >= plug_limit:
+            t = 0.0 if -s * moving > 0.0 else _INF
+        else:
+            t = time_to_position(pipe, st[U1] + (a0 - s * plug_limit) / k, t_lim, xtol)
+        if s == 1:
+            t_pos = t
+        else:
+            t_neg = t
+    return t_pos, t_neg
 
-    def friction_work(self, d1, d2):
-        # The plug's work is >= 0 (its force opposes the relative motion), but the relative
-        # displacement is a difference of two: a piece that starts at zero relative velocity
-        # and acceleration (a breakaway) and is cut short by another event can leave it below
-        # their round-off, of either sign (-1e-33 J once). Dissipation is never negative.
-        inner = self.F2 * self.s2 * (d1 - d2)
-        return self.outer.work(self.U1, d1, self.s1), inner * (inner > 0.0)
 
-    def find_event(self, horizon):
-        pipe = self.pipe
-        t_rest = pipe.time_to_rest(self.s1)
-        t_lim = min(t_rest, horizon)
-        xtol = self._resolution(t_lim)
-        found = [(t_rest, "pipe_rest"), (pipe.time_to_position(self.end, t_lim, xtol), "segment"),
-                 (self._time_to_stick(t_lim), "stick")]
-        return _earliest(found)
+@jitable
+def _time_to_stick(st, t_lim):
+    """First zero in (0, t_lim] [s] of g(t) = V1(t) - V2(t), of sign s2 at the start.
 
-    def _time_to_stick(self, t_lim: float) -> float:
-        """First zero in (0, t_lim] of g(t) = V1(t) - V2(t), of sign s2 at the start.
-
-        g'' = -k V1 keeps one sign inside the piece (V1 does not change sign), so g' is
-        monotone: split at the zero of g' (a position crossing, U1 = U1_0 + (a0 - a2)/k) and
-        search each monotone part for a sign change.
-        """
-        pipe, plug, s2 = self.pipe, self.plug, self.s2
-        da = pipe.a0 - plug.a0
-        if pipe.k == 0.0:   # g is linear
-            g0 = s2 * (self.V1 - self.V2)
-            return g0 / (-s2 * da) if s2 * da < 0.0 else _INF
-        if not math.isfinite(t_lim):
-            return _INF
-
-        def g(t):
-            return pipe.travel(t)[1] - plug.travel(t)[1]
-
-        def dg(t):
-            return pipe.acceleration_at(pipe.state(t)[0]) - plug.a0
-
-        xtol = self._resolution(t_lim)
-        t_mid = min(pipe.time_to_position(self.U1 + da / pipe.k, t_lim, xtol), t_lim)
-        a = 0.0
-        for b in (t_mid, t_lim):
-            if b <= a:
-                continue
-            gb = s2 * g(b)
-            if gb <= 0.0:
-                if s2 * g(a) > 0.0:
-                    return b if gb == 0.0 else refine_root(g, dg, a, b, xtol)
-                if a > 0.0 or self.V1 != self.V2:
-                    return a
-                # Started at zero relative velocity (a breakaway): there the relative
-                # acceleration is zero too, and the plug's mode says which way the relative
-                # velocity goes. A first part going the other way is round-off, not a stick.
-            a = b
+    g'' = -k V1 keeps one sign inside the piece (V1 does not change sign), so g' is monotone:
+    split at the zero of g' (a position crossing, U1 = U1_0 + (a0 - a2)/k) and search each
+    monotone part for a sign change.
+    """
+    pipe = pipe_of(st)
+    v2, a2, s2 = st[V2], st[A2], st[S2]
+    da = pipe[2] - a2
+    k = pipe[3]
+    if k == 0.0:   # g is linear
+        g0 = s2 * (st[V1] - v2)
+        return g0 / (-s2 * da) if s2 * da < 0.0 else _INF
+    if not math.isfinite(t_lim):
         return _INF
+    xtol = _resolution(st[T0], t_lim)
+    t_mid = min(time_to_position(pipe, st[U1] + da / k, t_lim, xtol), t_lim)
+    a = 0.0
+    for b in (t_mid, t_lim):
+        if b <= a:
+            continue
+        gb = s2 * _relative_velocity(pipe, v2, a2, b)
+        if gb <= 0.0:
+            if s2 * _relative_velocity(pipe, v2, a2, a) > 0.0:
+                if gb == 0.0:
+                    return b
+                return refine_root(RELATIVE_VELOCITY, pipe, 0.0, v2, a2, a, b, xtol)
+            if a > 0.0 or st[V1] != v2:
+                return a
+            # Started at zero relative velocity (a breakaway): there the relative
+            # acceleration is zero too, and the plug's mode says which way the relative
+            # velocity goes. A first part going the other way is round-off, not a stick.
+        a = b
+    return _INF
 
 
-def _earliest(found):
-    """The earliest time and every label within round-off of it."""
-    t_min = min(t for t, _ in found)
+@jitable
+def _relative_velocity(pipe, v2, a2, t):
+    """V1(t) - V2(t) [m/s] for the plug's uniform motion from ``v2`` with ``a2``."""
+    return travel(pipe, t)[1] - (v2 + a2 * t)
+
+
+@jitable
+def _earliest(ta, la, tb, lb, tc, lc, td, ld):
+    """The earliest of four event times [s] and the labels of every one within round-off of it."""
+    t_min = min(ta, tb, tc, td)
     if t_min == _INF:
-        return _INF, ()
-    tol = 8.0 * math.ulp(max(t_min, 1e-300)) + 1e-15 * t_min
-    return t_min, tuple(label for t, label in found if t <= t_min + tol)
+        return _INF, 0
+    tol = 8.0 * ulp(max(t_min, 1e-300)) + 1e-15 * t_min
+    labels = 0
+    if ta <= t_min + tol:
+        labels |= la
+    if tb <= t_min + tol:
+        labels |= lb
+    if tc <= t_min + tol:
+        labels |= lc
+    if td <= t_min + tol:
+        labels |= ld
+    return t_min, labels

@@ -23,7 +23,8 @@ import time
 import uuid
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
+from pipeplug_harness.fmu_run import DEFAULT_FMU
+
 OUTPUTS = ("v_pipe", "v_plug", "u_pipe", "u_plug")
 
 _BASELINE = '''
@@ -116,15 +117,15 @@ def measure(fmu: Path, steps: int, rounds: int, params: dict,
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--fmu", type=Path, default=ROOT / "dist" / "PipePlug.fmu",
-                        help="the FMU to measure (built with build_fmu.py if missing)")
+    parser.add_argument("--fmu", type=Path, default=DEFAULT_FMU,
+                        help="the FMU to measure (built if missing; default: %(default)s)")
     parser.add_argument("--steps", type=int, default=2000, help="steps per round (h = 0.1 ms)")
     parser.add_argument("--rounds", type=int, default=7, help="rounds per FMU")
     parser.add_argument("--tau1", type=float, default=None, help="outer limit stress [Pa]")
     parser.add_argument("--tau2", type=float, default=None, help="inner limit stress [Pa]")
     args = parser.parse_args(argv)
     if not args.fmu.exists():
-        subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), "--dest", str(args.fmu)],
+        subprocess.run([sys.executable, "-m", "pipeplug_fmu", "build", "--dest", str(args.fmu)],
                        check=True)
     params = {k: v for k, v in (("tau1", args.tau1), ("tau2", args.tau2)) if v is not None}
     t_model, t_base = measure(args.fmu, args.steps, args.rounds, params)

@@ -1,14 +1,16 @@
 """Cases, sample grids, references and error measures of the ``cost`` study.
 
 Every method is run on the same :class:`BenchCase`: a rectangular pulse (Q0 for t < t0, then 0)
-from rest, sampled on a uniform grid of ``rate`` samples per second that contains t0. Model I
-cases are measured against the closed form (:mod:`pipeplug_references.closed_form`); the model II
-case (``contact_growth``) has no closed form and is measured against the core's exact solver.
+from rest, sampled on a uniform grid of ``rate`` samples per second that contains t0; the study's
+cases share one grid of :data:`SAMPLES` times (to :data:`T_END`, past every stop). Model I cases
+are measured against the closed form (:mod:`pipeplug_references.closed_form`); the model II case
+(``contact_growth``) has no closed form and is measured against the core's exact solver.
 """
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from functools import cached_property
 
 import numpy as np
 
@@ -18,7 +20,11 @@ from pipeplug_references.closed_form import Case, figure_cases, solution, stop_t
 MODEL_KEYS = ("L1", "L2", "R1", "h1", "rho1", "rho2", "tau1", "tau2")
 #: samples per second of the common grid; 1/rate = 0.2 ms is the paper's step, t0 = 250 samples
 RATE = 5000
-#: horizon of a case whose bodies never stop, s
+#: samples of every case of the study: 2,000 at 0.2 ms, to T_END
+SAMPLES = 2000
+#: last sample time of the study's cases, s (past the last stop of every case that stops)
+T_END = SAMPLES / RATE
+#: horizon of a short case whose bodies never stop, s
 OPEN_HORIZON = 0.2
 #: the study's outputs: pipe and plug velocity (m/s) and displacement (m)
 KEYS = ("V1", "V2", "U1", "U2")
@@ -48,10 +54,15 @@ class BenchCase:
     t_end: float
     rate: int = RATE
 
-    @property
+    @cached_property
     def times(self) -> np.ndarray:
         """Sample times k / rate, k = 1 .. rate t_end, s (t0 is one of them)."""
         return np.arange(1, round(self.t_end * self.rate) + 1) / self.rate
+
+    @cached_property
+    def loads(self) -> np.ndarray:
+        """Struck-end force over the sample interval ending at each sample time, N."""
+        return np.where(self.times <= self.case.t0, self.case.Q0, 0.0)
 
     @property
     def params(self) -> dict:
@@ -82,19 +93,21 @@ def default_cases() -> list[BenchCase]:
     """Model I: one case per moving domain (I-IV) and the frictionless-outer one; one model II case.
 
     Paper's curves: Fig. 4 curves 2 and 4 (domains I, III), Fig. 6a curves 4 and 6 (II, IV),
-    Fig. 5 curve 1 (tau1 = 0, Fig. 7's case); model II: Fig. 6b curve 4.
+    Fig. 5 curve 1 (tau1 = 0, Fig. 7's case); model II: Fig. 6b curve 4. Every case runs on the
+    same :data:`SAMPLES` sample times, to :data:`T_END`.
     """
     chosen = [("I", _pick("4", 1)), ("II", _pick("6a", 3)), ("II-tau1=0", _pick("5", 0)),
               ("III", _pick("4", 3)), ("IV", _pick("6a", 5))]
-    cases = [BenchCase(n, c, False, horizon(c)) for n, c in chosen]
     model2 = _pick("6a", 3)                          # Fig. 6b, curve 4: the same taus as model I
-    cases.append(BenchCase("model-II", model2, True, OPEN_HORIZON))
+    cases = [BenchCase(n, c, False, T_END) for n, c in chosen]
+    cases.append(BenchCase("model-II", model2, True, T_END))
     return cases
 
 
 def quick_cases() -> list[BenchCase]:
-    """Two short model I cases (domains III and IV) for the tests."""
-    return [c for c in default_cases() if c.name in ("III", "IV")]
+    """Two short model I cases (domains III and IV) for the tests, each to 1.25 times its last
+    stop."""
+    return [replace(c, t_end=horizon(c.case)) for c in default_cases() if c.name in ("III", "IV")]
 
 
 def creep_cases(cases: list[BenchCase], after: float = 0.1) -> list[BenchCase]:

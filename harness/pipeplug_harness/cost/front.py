@@ -84,3 +84,14 @@ def per_case_times(rows: list[dict], families, target: float = TARGET) -> dict:
         out[case] = {f: t for f, (t, _) in times_to_target(
             [r for r in rows if r["case"] == case], families, target).items()}
     return out
+
+
+def fastest_reaching(rows: list[dict], families, target: float = TARGET) -> dict:
+    """{case: row} of the fastest measured setting of `families` whose velocity error on that
+    case is at most `target` (cases no setting reaches are left out)."""
+    best = {}
+    for r in rows:
+        if r["method"] in families and r["max_rel_error"] <= target:
+            if r["case"] not in best or r["wall_s"] < best[r["case"]]["wall_s"]:
+                best[r["case"]] = r
+    return best

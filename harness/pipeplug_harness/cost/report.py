@@ -3,13 +3,24 @@ from __future__ import annotations
 
 import csv
 import math
+import statistics
 from collections import defaultdict
 from pathlib import Path
 
-from .front import TARGET, aggregate, pareto_front, per_case_times, times_to_target
+from .front import (
+    TARGET,
+    aggregate,
+    fastest_reaching,
+    pareto_front,
+    per_case_times,
+    times_to_target,
+)
 
 #: headline ratios: (family compared with the exact solver, target speed-up or None)
 RATIO_TARGETS = (("LSODA", 20.0), ("Radau", 100.0), ("odeint-LSODA", None), ("BDF", None))
+#: exact against the best regularised setting: target of the median ratio over the cases and
+#: of each case's ratio
+MEDIAN_TARGET, EACH_TARGET = 20.0, 10.0
 
 
 def write_csv(rows: list[dict], path: Path, columns: tuple) -> None:
@@ -69,6 +80,38 @@ def headline(rows: list[dict], families) -> list[str]:
 
 def _ratio(seconds: float, exact: float) -> str:
     return "not reached" if math.isnan(seconds) else f"{seconds / exact:.1f}x"
+
+
+def versus_regularised(rows: list[dict], families) -> tuple[list[str], list[float]]:
+    """Per case: the exact solver's time against the fastest regularised setting (any family of
+    `families`) that reaches `TARGET` on that case, both measured; then the median and the
+    smallest ratio against their targets.
+
+    Returns
+    -------
+    (list of str, list of float)
+        The markdown lines and the ratio of each case (``inf`` where no regularised setting
+        reaches `TARGET`).
+    """
+    best = fastest_reaching(rows, families)
+    lines, ratios = [], []
+    for mine in (r for r in rows if r["method"] == "exact"):
+        r = best.get(mine["case"])
+        if r is None:
+            ratios.append(math.inf)
+            lines.append([mine["case"], _ms(mine["wall_s"]), "none reaches it", "-", "-", "-",
+                          "-"])
+            continue
+        ratios.append(r["wall_s"] / mine["wall_s"])
+        lines.append([mine["case"], _ms(mine["wall_s"]), r["method"], r["setting"],
+                      _e(r["max_rel_error"]), _ms(r["wall_s"]), f"**{ratios[-1]:.1f}x**"])
+    text = _table(["case", "exact [ms]", f"fastest regularised below {TARGET:g}", "setting",
+                   "its error", "its time [ms]", "ratio"], lines)
+    if ratios:
+        text += ["", f"- median ratio over the {len(ratios)} cases: "
+                     f"**{statistics.median(ratios):.1f}x** (target >= {MEDIAN_TARGET:g}); "
+                     f"smallest: **{min(ratios):.1f}x** (target >= {EACH_TARGET:g} in each case)"]
+    return text, ratios
 
 
 def per_case(rows: list[dict], families) -> list[str]:

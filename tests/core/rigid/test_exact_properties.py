@@ -205,15 +205,16 @@ def test_fig4_and_fig6a_velocities_level_at_u_double_star(ratio, level, taus):
     (6.5e4, 6.5e4, "IV", ((1, 0), (0, 0))),
     (1e5, 1e4, "V", ((0, 0),)),
 ])
-def test_modes_are_the_paper_s_domain_sequences(tau1, tau2, domain, expected):
+@pytest.mark.parametrize("compiled", [False, True], ids=["python", "compiled"])
+def test_modes_are_the_paper_s_domain_sequences(tau1, tau2, domain, expected, compiled):
     """The paper's section 1, rectangular pulse 23 kN for 50 ms: I both slide, the plug overtakes
     after t1, the pipe stops, then the plug; II both slide, stick, stop together; III move
     together, the plug overtakes after t0, the pipe stops, then the plug; IV together to the
     stop; V nothing moves. (pipe_mode, plug_mode) = (sign U1', sign(U1' - U2'))."""
-    m = build_model({"tau1": tau1, "tau2": tau2})
+    m = build_model({"tau1": tau1, "tau2": tau2}, compiled=compiled)
     m.advance(23e3, 0.05)
     m.advance(0.0, 1.0)
     assert m.modes() == expected, domain
-    restored = build_model({"tau1": tau1, "tau2": tau2})
+    restored = build_model({"tau1": tau1, "tau2": tau2}, compiled=compiled)
     restored.set_state(m.get_state())
     assert restored.modes() == expected

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from pipeplug.rigid.motion import Motion
+from pipeplug.rigid.motion import motion, state, time_to_position, time_to_rest
 
 CASES = [(0.3, 2.0, -5.0, 0.0), (0.3, 2.0, -5.0, 40.0), (0.3, 2.0, -5.0, -40.0),
          (0.0, -1.0, 3.0, 1e-10), (1.0, 0.0, 4.0, 900.0), (0.0, 5.0, 1.0, -3.0)]
@@ -13,32 +13,32 @@ CASES = [(0.3, 2.0, -5.0, 0.0), (0.3, 2.0, -5.0, 40.0), (0.3, 2.0, -5.0, -40.0),
 
 @pytest.mark.parametrize("U0, V0, a0, k", CASES)
 def test_state_matches_numerical_integration(U0, V0, a0, k):
-    m = Motion(U0, V0, a0, k)
+    m = motion(U0, V0, a0, k)
     t = np.linspace(0, 0.4, 41)
     sol = solve_ivp(lambda _, y: [y[1], a0 - k * (y[0] - U0)], (0, 0.4), [U0, V0],
                     t_eval=t, rtol=1e-12, atol=1e-14, method="DOP853")
-    got = np.array([m.state(ti) for ti in t]).T
+    got = np.array([state(m, ti) for ti in t]).T
     np.testing.assert_allclose(got, sol.y, rtol=1e-9, atol=1e-11)
 
 
 @pytest.mark.parametrize("U0, V0, a0, k", CASES)
 def test_time_to_rest_is_a_velocity_zero_with_the_right_sign_before(U0, V0, a0, k):
-    m = Motion(U0, V0, a0, k)
+    m = motion(U0, V0, a0, k)
     sgn = 1 if V0 > 0 or (V0 == 0 and a0 > 0) else -1
-    t = m.time_to_rest(sgn)
+    t = time_to_rest(m, sgn)
     if not math.isfinite(t):
-        assert all(sgn * m.state(s)[1] > 0 for s in np.linspace(1e-6, 50, 200))
+        assert all(sgn * state(m, s)[1] > 0 for s in np.linspace(1e-6, 50, 200))
         return
-    assert abs(m.state(t)[1]) <= 1e-14 * (abs(V0) + abs(a0) * t + 1)
-    assert all(sgn * m.state(s)[1] > 0 for s in np.linspace(0, t, 50)[1:-1])
+    assert abs(state(m, t)[1]) <= 1e-14 * (abs(V0) + abs(a0) * t + 1)
+    assert all(sgn * state(m, s)[1] > 0 for s in np.linspace(0, t, 50)[1:-1])
 
 
 def test_uniform_deceleration_stop_time_is_exact():
-    assert Motion(0.0, 10.0, -2.0).time_to_rest(1) == 5.0
+    assert time_to_rest(motion(0.0, 10.0, -2.0), 1) == 5.0
 
 
 def test_time_to_position_hits_the_target():
-    m = Motion(0.0, 10.0, -2.0, 4.0)
-    t = m.time_to_position(1.0, m.time_to_rest(1))
-    assert m.state(t)[0] == pytest.approx(1.0, abs=1e-15)
-    assert m.time_to_position(100.0, m.time_to_rest(1)) == math.inf
+    m = motion(0.0, 10.0, -2.0, 4.0)
+    t = time_to_position(m, 1.0, time_to_rest(m, 1))
+    assert state(m, t)[0] == pytest.approx(1.0, abs=1e-15)
+    assert time_to_position(m, 100.0, time_to_rest(m, 1)) == math.inf

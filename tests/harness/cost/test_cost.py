@@ -10,9 +10,9 @@ import pytest
 import pipeplug
 from pipeplug_harness.cost import command as cost
 from pipeplug_harness.cost.cases import default_cases, quick_cases
-from pipeplug_harness.cost.front import pareto_front, time_to_error
+from pipeplug_harness.cost.front import fastest_reaching, pareto_front, time_to_error
 from pipeplug_harness.cost.regularised import TanhFriction
-from pipeplug_references.closed_form import domain
+from pipeplug_references.closed_form import domain, stop_times
 
 FILES = ("cost.csv", "cost_comm.csv", "cost_creep.csv", "cost.md", "cost_pareto.png",
          "cost_creep.png")
@@ -59,6 +59,8 @@ def test_files_are_written(study):
         assert (study / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     text = (study / "cost.md").read_text()
     assert "exact vs best LSODA" in text and "exact vs best Radau" in text
+    assert "Exact against the fastest regularised setting" in text and "median ratio" in text
+    assert "cases/s** on one core" in text
 
 
 def test_every_method_family_is_in_the_csv(rows):
@@ -126,6 +128,25 @@ def test_cases_lie_in_their_named_domains_and_sample_t0():
         if not bench.growth:
             assert domain(bench.case) == bench.name.split("-")[0]
         assert np.any(bench.times == bench.case.t0)
+
+
+def test_cases_share_2000_sample_times_past_every_stop():
+    cases = default_cases()
+    for bench in cases:
+        assert np.array_equal(bench.times, cases[0].times) and len(bench.times) == 2000
+        if not bench.growth:
+            assert max(stop_times(bench.case)) < bench.times[-1] or bench.case.tau1 == 0.0
+
+
+def test_fastest_setting_reaching_the_target_is_taken_per_case():
+    rows = [{"method": "LSODA", "setting": "a", "case": "I", "max_rel_error": 1e-7, "wall_s": 2.0},
+            {"method": "Radau", "setting": "b", "case": "I", "max_rel_error": 5e-7, "wall_s": 1.0},
+            {"method": "LSODA", "setting": "c", "case": "I", "max_rel_error": 2e-6, "wall_s": 0.1},
+            {"method": "fd", "setting": "d", "case": "I", "max_rel_error": 1e-9, "wall_s": 0.01},
+            {"method": "LSODA", "setting": "a", "case": "II", "max_rel_error": math.nan,
+             "wall_s": 0.5}]
+    best = fastest_reaching(rows, ("LSODA", "Radau"))
+    assert best["I"]["setting"] == "b" and "II" not in best
 
 
 def test_time_to_error_interpolates_log_log_on_the_front():

@@ -31,7 +31,8 @@ def test_fuzz_finds_no_failure(pipeplug_cli, fmu_dir, seed, cases):
     assert _count(r"through the FMU: (\d+)", text) == cases // 20
     assert _count(r"fd: (\d+)", text) == cases // 400
     assert _count(r"failing cases: (\d+)", text) == 0
-    for check in ("reference [python]", "grid [python]", "energy [python]",
+    for check in ("reference [python]", "grid [python]", "energy [python]", "reference [compiled]",
+                  "grid [compiled]", "energy [compiled]",
                   "fmu [fmu t+=h]", "fmu [fmu t=k*h]", "reference [fmu t=k*h]", "fd bound [fd]"):
         assert re.search(re.escape(check) + r"\s+\d+\s+0\s", text), check
 

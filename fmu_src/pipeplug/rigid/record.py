@@ -1,0 +1,75 @@
+"""The records of the exact solver: its constants and its state, each a flat row of floats.
+
+The exact solver's functions (:mod:`~pipeplug.rigid.pieces`, :mod:`~pipeplug.rigid.stepping`)
+read and write two records by the indices below: numba compiles them for float64 arrays, and
+Python runs the same source on lists (which Python indexes faster than arrays).
+
+Constants (``par``): masses, the plug's friction limit and the outer friction law
+(:mod:`pipeplug.contact.outer`). State (``st``): the model's time, the current piece (its origin,
+contact modes, closed-form motion and forces), the works done before it, and its next event.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..contact.outer import outer_contact_for
+from ..jit import jitable
+
+__all__ = ["parameter_record", "state_record", "reset_state", "as_array", "N_PAR", "N_STATE"]
+
+# Constants: pipe mass M1 [kg]; plug mass M2 [kg] and its friction limit F2 = P2 L2 tau2 [N]
+# (both 0 without a plug); 1.0 when the plug is coupled; the outer law (kind, F1 [N],
+# k [N/m], L1 [m]) in four places from P_LAW.
+P_M1, P_M2, P_F2, P_COUPLED, P_LAW = range(5)
+N_PAR = P_LAW + 4
+
+# State. TIME: the model's time [s]. The piece: its start T0 [s] and force Q [N] (nan before
+# the first step), its origin U1, V1, U2, V2 [m, m/s], contact modes S1, S2 (-1, 0, 1) and KIND
+# (pieces.AT_REST ...); the motions of pipe and plug (a body at rest, or absent, has a motion
+# of zeros): acceleration A1, A2 [m/s^2], stiffness per mass K1, K2 [1/s^2] and W1, W2 =
+# sqrt(|K|) [1/s]; the outer segment FORCE0 [N], KAPPA [N/m], END [m]; static forces FS1, FS2
+# [N]. Works before the piece W_IN, W_OUTER, W_INNER [J]; KICK: the plug's breakaway direction
+# at the piece start. The event search: HORIZON [s] after T0 searched, the event T_EVENT [s]
+# and its LABELS (bits), T_SNAP [s] (a step ending past it takes the event), SEARCHED [s]
+# (events known up to it). The mode log (see stepping.log_mode): MODE, the code of the last
+# piece's contact modes logged (-1: none yet), and LOGGED, the codes in the log array not yet
+# taken by the model. ERROR: a value for the message of a failure.
+(TIME, T0, Q, U1, V1, U2, V2, S1, S2, KIND, A1, K1, W1, A2, K2, W2, FORCE0, KAPPA, END, FS1,
+ FS2, W_IN, W_OUTER, W_INNER, KICK, HORIZON, T_EVENT, T_SNAP, SEARCHED, LABELS, MODE, LOGGED,
+ ERROR) = range(33)
+N_STATE = ERROR + 1
+
+
+def parameter_record(params, growth: bool) -> list:
+    """The constants of the exact solver for validated ``params`` (model II when ``growth``).
+
+    ``params`` is a :class:`~pipeplug.params.Params`, or a :class:`~pipeplug.params.ParamArrays`
+    of many cases (then each entry is an array over the cases).
+    """
+    coupled = params.has_plug
+    law = outer_contact_for(params.P1, params.L1, params.tau1, growth)
+    return [params.M1, coupled * params.M2, coupled * params.F2, coupled * 1.0, *law]
+
+
+def state_record() -> list:
+    """A state at t = 0, before the first step: at rest, under no force yet (Q = nan)."""
+    st = [0.0] * N_STATE
+    reset_state(st)
+    return st
+
+
+@jitable
+def reset_state(st):
+    """Put the state record ``st`` back to that of a fresh model (see :func:`state_record`)."""
+    for i in range(N_STATE):
+        st[i] = 0.0                   # the piece: at rest at the origin, no force, no work
+    st[Q] = math.nan
+    st[MODE] = -1.0
+    st[T_EVENT] = st[T_SNAP] = st[SEARCHED] = math.inf
+
+
+def as_array(record) -> np.ndarray:
+    """A record as the float64 array compiled functions take."""
+    return np.array(record, dtype=np.float64)
