@@ -1,6 +1,8 @@
-"""Running the cases of a sweep through the core (no FMU): one task = one chunk of cases.
+"""Running the cases of a sweep through the core (no FMU), one model per case: one task = one
+chunk of cases.
 
-:func:`run_chunk` is what a worker runs; it depends only on the sweep and the chunk's number,
+:func:`run_chunk` is what a worker runs (unless the sweep takes the batch API, :mod:`.batch`);
+it depends only on the sweep and the chunk's number,
 so every worker, in any order and any number of times, gives the same table for it. A case that
 fails (a refused parameter, a solver error) gives a row with its ``error`` and empty results;
 the other cases go on.
@@ -8,8 +10,9 @@ the other cases go on.
 * blow: the model is built from the case's values (:func:`pipeplug.build_model`), takes the
   blows of [blows] (Q held over each, 0 between them), then goes on under Q = 0 in steps
   doubling from the blow's duration until all is at rest or ``stop_time``. Row: the outputs at
-  the end, ``t_end`` [s], and ``modes``: the contact modes the run went through, e.g.
-  ``"(1,1),(1,-1),(0,-1),(0,0)"`` (``(pipe_mode, plug_mode)`` as in the outputs).
+  the end, ``t_end`` [s], and, when the sweep wants them (:attr:`~.file.SweepSpec.modes`),
+  ``modes``: the contact modes the run went through, e.g. ``"(1,1),(1,-1),(0,-1),(0,0)"``
+  (``(pipe_mode, plug_mode)`` as in the outputs).
 * drive: the whole drive of :mod:`pipeplug_harness.drive.run` on a core model
   (:class:`~pipeplug_harness.drive.session.CoreSession`). Row: outcome, blows, penetration, ...
 """
@@ -26,7 +29,7 @@ from pipeplug_harness.scenes.file import SceneError, elastic_choice
 
 from .sample import varied_values
 
-__all__ = ["run_chunk", "prepare", "schema", "modes_text", "RESULT_COLUMNS"]
+__all__ = ["run_chunk", "case_rows", "prepare", "schema", "modes_text", "RESULT_COLUMNS"]
 
 _ARROW = {"Real": pa.float64(), "Integer": pa.int64(), "Boolean": pa.bool_()}
 
@@ -51,9 +54,11 @@ class BlowCase:
 
 
 def schema(spec) -> pa.Schema:
-    """The columns of the sweep's output: case, the varied names, the results, error."""
+    """The columns of the sweep's output: case, the varied names, the results (``modes`` only
+    when the sweep wants them), error."""
+    results = [c for c in RESULT_COLUMNS[spec.kind] if c[0] != "modes" or spec.modes]
     return pa.schema([("case", pa.int64())] + [(d.name, pa.float64()) for d in spec.dims]
-                     + RESULT_COLUMNS[spec.kind] + [("error", pa.string())])
+                     + results + [("error", pa.string())])
 
 
 def prepare(kind: str, values: dict):
@@ -127,11 +132,18 @@ _RUN = {"blow": _run_blow, "drive": _run_drive}
 
 
 def run_chunk(spec, c: int) -> pa.Table:
-    """The rows of chunk ``c`` of the sweep ``spec`` (:class:`~.file.SweepSpec`)."""
+    """The rows of chunk ``c`` of the sweep ``spec`` (:class:`~.file.SweepSpec`), one model per
+    case."""
     start, stop = spec.chunk_range(c)
     varied = varied_values(spec.dims, spec.sampling, spec.seed, start, stop)
+    return case_rows(spec, varied, start, range(stop - start))
+
+
+def case_rows(spec, varied: dict, start: int, indices) -> pa.Table:
+    """The rows of the cases ``start + j`` for ``j`` in ``indices``, one model per case
+    (``varied``: name -> the values of the cases from ``start`` on)."""
     rows = []
-    for j in range(stop - start):
+    for j in indices:
         row = {"case": start + j, **{name: float(v[j]) for name, v in varied.items()}}
         try:
             row.update(_RUN[spec.kind](prepare(spec.kind, spec.case_values(varied, j))))

@@ -32,6 +32,7 @@ def main(args: argparse.Namespace) -> int:
     from .check import check_sweep
     from .cluster import dask_client
     from .engine import run_campaign
+    from .runners import described
     from .store import StoreError, read_folder
     try:
         spec = load_sweep(args.sweep)
@@ -42,7 +43,7 @@ def main(args: argparse.Namespace) -> int:
     out = Path(args.out or Path("out/sweeps") / spec.name)
     print(f"{spec.name}: {spec.n_cases} {spec.kind} cases ({spec.sampling} over "
           f"{', '.join(d.name for d in spec.dims)}) in {spec.n_chunks} chunks of "
-          f"{spec.chunk}; {checked}", flush=True)
+          f"{spec.chunk}; {checked}; {described(spec)}", flush=True)
     try:
         with dask_client(args.scheduler, args.workers) as client:
             workers = len(client.scheduler_info()["workers"])

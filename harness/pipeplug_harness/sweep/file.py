@@ -26,15 +26,23 @@ whole drives, same keys and defaults), what varies, and how the run is cut into 
 
     [pipe] [plug] [soil] [blows] [model]        # the base case: as in a scene or drive file
     [output]                # kind = "blow": stop_time [s] (default 100): the run goes on under
-                            # Q = 0 after the blows until all is at rest or this time
+                            # Q = 0 after the blows until all is at rest or this time;
+                            # modes = true: a column of the contact modes each run went
+                            # through (default false; the "domains" report always has it)
     [drive]                 # kind = "drive": as in a drive file
 
 Any number key of the base sections can vary (parameters, blow settings, [drive] settings).
 Unknown sections, keys or values are errors naming the allowed ones.
+
+How the cases run is chosen once per sweep (:attr:`SweepSpec.runner`): single rigid exact
+blows from rest with no mode sequence wanted run a chunk in one call of the core's batch API
+(:mod:`.batch`; the rules: :data:`.runners.BATCH_RULES`); anything else builds one model per
+case.
 """
 from __future__ import annotations
 
 import copy
+import dataclasses
 import hashlib
 import json
 import math
@@ -46,6 +54,7 @@ import numpy as np
 from pipeplug_harness.drive.file import DRIVE_SECTIONS
 from pipeplug_harness.scenes.file import SECTIONS, SceneError, checked_sections, read_toml
 
+from .runners import RUNNERS, runner_of
 from .sample import DISTRIBUTIONS, GRID_KEYS, GRID_SCALES, Dimension
 
 __all__ = ["SweepSpec", "KINDS", "REPORTS", "load_sweep", "sweep_spec", "variables"]
@@ -53,16 +62,19 @@ __all__ = ["SweepSpec", "KINDS", "REPORTS", "load_sweep", "sweep_spec", "variabl
 #: kind -> (base sections, the nested ones, default cases per task)
 KINDS = {
     "blow": ({**{k: v for k, v in SECTIONS.items() if k != "output"},
-              "output": {"stop_time": (float, 100.0)}}, ("blows", "output"), 2000),
+              "output": {"stop_time": (float, 100.0), "modes": (bool, False)}},
+             ("blows", "output"), 2000),
     "drive": (DRIVE_SECTIONS, ("blows", "drive"), 100),
 }
 
-#: report -> what it gives (the modules are in pipeplug_harness.sweep.reports)
+#: report -> (what it gives, the result columns it needs beyond the default ones); the modules
+#: are named in pipeplug_harness.sweep.command
 REPORTS = {
-    "none": "the Parquet output only",
-    "domains": "the paper's Fig. 2: each (tau1, tau2) point classified by its mode sequence, "
-               "against the analytic domains",
-    "drivability": "distribution of blows to drive, probability of refusal, standard errors",
+    "none": ("the Parquet output only", ()),
+    "domains": ("the paper's Fig. 2: each (tau1, tau2) point classified by its mode sequence, "
+                "against the analytic domains", ("modes",)),
+    "drivability": ("distribution of blows to drive, probability of refusal, standard errors",
+                    ()),
 }
 
 _SWEEP = {"kind": (str, "blow"), "seed": (int, 0), "samples": (int, None),
@@ -84,6 +96,15 @@ class SweepSpec:
     chunk: int                #: cases per task
     report: str
     digest: str               #: identifies the cases and their results (resuming checks it)
+    runner: str = "case"      #: how the cases run (:data:`.runners.RUNNERS`), chosen once
+                              #: by :func:`.runners.runner_of`
+
+    @property
+    def modes(self) -> bool:
+        """True when the output has the ``modes`` column (blows: asked for, or the report
+        needs it)."""
+        return self.kind == "blow" and (self.base["output"]["modes"]
+                                        or "modes" in REPORTS[self.report][1])
 
     @property
     def n_chunks(self) -> int:
@@ -98,9 +119,9 @@ class SweepSpec:
         return stop - start
 
     def run_chunk(self, c: int):
-        """The results of chunk ``c`` (a pyarrow Table, see :func:`.cases.run_chunk`)."""
-        from .cases import run_chunk
-        return run_chunk(self, c)
+        """The results of chunk ``c`` (a pyarrow Table, see :mod:`.cases`), by the sweep's
+        runner."""
+        return RUNNERS[self.runner](self, c)
 
     def case_values(self, varied: dict, i: int) -> dict:
         """The base sections with case ``i`` of ``varied`` (name -> array) put in (a copy)."""
@@ -160,9 +181,10 @@ def sweep_spec(name: str, raw: dict) -> SweepSpec:
     chunk = default_chunk if head["chunk"] is None else head["chunk"]
     if chunk < 1:
         raise SceneError(f"[sweep] chunk = {chunk!r}; allowed: >= 1")
-    digest = _digest(kind, base, sampling, dims, head["seed"], n_cases, chunk)
-    return SweepSpec(name, kind, base, sampling, dims, head["seed"], n_cases, chunk, report,
+    digest = _digest(kind, base, sampling, dims, head["seed"], n_cases, chunk, report)
+    spec = SweepSpec(name, kind, base, sampling, dims, head["seed"], n_cases, chunk, report,
                      digest)
+    return dataclasses.replace(spec, runner=runner_of(spec))
 
 
 def _choice(key: str, value: str, table: dict) -> str:
@@ -216,10 +238,12 @@ def _number(where: str, key: str, value) -> float:
     return float(value)
 
 
-def _digest(kind, base, sampling, dims, seed, n_cases, chunk) -> str:
-    """A digest of everything that decides the cases, their chunks and the code's version."""
+def _digest(kind, base, sampling, dims, seed, n_cases, chunk, report) -> str:
+    """A digest of everything that decides the cases, their chunks, their columns (the report
+    may add some) and the code's version."""
     from pipeplug import __version__
     text = json.dumps([__version__, kind, base, sampling,
                        [(d.name, d.dist, d.args, None if d.values is None else d.values.tolist())
-                        for d in dims], seed, n_cases, chunk], sort_keys=True, default=str)
+                        for d in dims], seed, n_cases, chunk, report], sort_keys=True,
+                      default=str)
     return hashlib.sha256(text.encode()).hexdigest()[:16]

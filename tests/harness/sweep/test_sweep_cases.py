@@ -9,7 +9,7 @@ from pipeplug_harness.sweep.file import sweep_spec
 from pipeplug_references import closed_form as cf
 
 BASE = {"soil": {"contact_growth": False}, "model": {"elastic": False},
-        "blows": {"amplitude": 23e3, "duration": 0.05}}
+        "blows": {"amplitude": 23e3, "duration": 0.05}, "output": {"modes": True}}
 CASE = cf.Case()
 TAU_STAR, GAMMA = CASE.tau_star, CASE.gamma
 

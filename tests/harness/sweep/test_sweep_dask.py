@@ -9,7 +9,7 @@ import pytest
 
 from pipeplug_harness.sweep.cluster import dask_client
 from pipeplug_harness.sweep.engine import run_campaign
-from pipeplug_harness.sweep.file import load_sweep
+from pipeplug_harness.sweep.file import load_sweep, sweep_spec
 from pipeplug_harness.sweep.store import StoreError, read_folder
 
 # Short rigid drives (~3 ms each) over lognormal soil: some reach the target, some refuse.
@@ -69,6 +69,18 @@ def test_same_results_in_process_on_two_workers_and_on_one(client, tmp_path, pip
     assert read_folder(tmp_path / "one").equals(expected)
     assert "1 worker(s)" in proc.stdout and "P(refusal) = " in proc.stdout
     assert (tmp_path / "one.png").stat().st_size > 10_000
+
+
+def test_a_batch_sweep_on_two_workers_is_the_sweep_run_here(client, tmp_path):
+    """Single blows on the core's batch API (one call per chunk) through the engine."""
+    spec = sweep_spec("blows", {
+        "sweep": {"samples": 3000, "seed": 4, "chunk": 500}, "model": {"elastic": False},
+        "random": {"tau1": {"dist": "uniform", "low": 1e3, "high": 1.2e5},
+                   "tau2": {"dist": "uniform", "low": 0.0, "high": 8e4}}})
+    assert spec.runner == "batch"
+    run = run_campaign(spec, tmp_path / "out", client, progress=False)
+    assert run.complete and run.written == 6 and not run.failed
+    assert read_folder(tmp_path / "out").equals(_reference(spec))
 
 
 def test_a_rerun_resumes_and_runs_only_the_missing_chunks(client, tmp_path):
