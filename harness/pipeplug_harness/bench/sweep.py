@@ -3,29 +3,40 @@ single blows, and the time projected for a cluster.
 
 Usage::
 
-    python -m pipeplug_harness.bench.sweep [--cases 40000] [--million 1000000] [--repeat 2]
-                                           [--chunk 2000] [--big-chunk 10000]
+    python -m pipeplug_harness.bench.sweep [--million 1000000] [--chunk 50000] [--repeat 2]
+                                           [--slow-cases 40000] [--slow-chunk 2000]
 
 The cases are single blows of model I (the paper's base case, 23 kN for 50 ms, run from rest
-until all is at rest: exact solver through the core), (tau1, tau2) drawn uniformly over the
-Fig. 2 plane (tau1 < 0.12 MPa, tau2 < 0.08 MPa). Measured, in one run:
+until all is at rest), (tau1, tau2) drawn uniformly over the Fig. 2 plane (tau1 < 0.12 MPa,
+tau2 < 0.08 MPa), in two mixes:
 
-1. ``c0``: the cost of a case in this process (chunks run directly, no Dask);
+* ``batch``: the sweep as written, run by the core's batch API, one call per chunk (what every
+  single-blow sweep wanting no mode sequence runs): a few microseconds per case, so a chunk
+  must hold many cases (``--chunk``, ~0.1 s of work) for the engine's cost per chunk not to
+  matter;
+* ``per-case``: the same blows with their mode sequences wanted (``[output] modes = true``, as
+  for Fig. 2): one model per case, a few hundred microseconds each, chunks of
+  ``--slow-chunk``.
+
+Measured, in one run:
+
+1. per mix, ``c0``: a chunk's cost per case in this process, its table encoded as Parquet (what
+   a worker does), and ``w``: the client's cost per case of writing a chunk's file;
 2. ``s``: the engine's cost per chunk: empty chunks through a one-worker LocalCluster (the
-   scheduler's round trip, moving the result, the client writing its Parquet file);
-3. the same sweep of ``--cases`` through the engine on 1 and on 2 workers, alternately
-   ``--repeat`` times (the best of each counts: the machine is shared): cases per second,
-   ``c`` (seconds per case per worker), the speed-up T1 / T2 and the parallel efficiency
-   T1 / (2 T2) (target: speed-up >= 1.6);
-4. ``--million`` cases on 2 workers in chunks of ``--big-chunk`` (0: skip);
-5. the projection for W workers of a cluster::
+   scheduler's round trip, moving the result, the client writing its file);
+3. per mix, the sweep on 1 and on 2 workers, alternately ``--repeat`` times (the best of each
+   counts: the machine is shared): cases per second, ``c`` (seconds per case per worker), the
+   speed-up T1 / T2 and the parallel efficiency T1 / (2 T2) (target: speed-up >= 1.6). The
+   batch mix's sweep is the ``--million`` run;
+4. the projection for W workers of a cluster (batch mix)::
 
-       T(N, W) = t_start + (N c + n_chunks s) / W,   n_chunks = ceil(N / B)
+       T(N, W) = t_start + max((N c + n s) / W, n s + N w),   n = ceil(N / B)
 
-   with ``c`` and ``s`` as measured here (a cluster's cores may be faster or slower). The
-   scheduler and the client handle chunks one at a time, so beyond
-   ``W_max = (N c / n_chunks) / s`` workers (a chunk's work over the serial cost per chunk)
-   they, not the workers, set the pace: choose B so that B c >> W s.
+   with ``c``, ``s``, ``w`` as measured here (a cluster's cores may be faster or slower): the
+   workers share the cases and the chunks' costs; the scheduler and the client take the chunks
+   one at a time (counting all of ``s`` there is the pessimistic side) and the client writes
+   every case. Beyond ``W_max = (c + s / B) / (w + s / B)`` workers they, not the workers, set
+   the pace: larger chunks raise it (the projection is printed for B and 10 B).
 """
 from __future__ import annotations
 
@@ -41,18 +52,23 @@ import pyarrow as pa
 from pipeplug_harness.sweep.cluster import dask_client
 from pipeplug_harness.sweep.engine import run_campaign
 from pipeplug_harness.sweep.file import sweep_spec
+from pipeplug_harness.sweep.store import parquet_bytes
 
 _PLANE = {"tau1": {"dist": "uniform", "low": 0.0, "high": 1.2e5},
           "tau2": {"dist": "uniform", "low": 0.0, "high": 8.0e4}}
+#: mix -> what the output section adds to the sweep (the mode sequence takes the per-case path)
+MIXES = {"batch": {"modes": False}, "per-case": {"modes": True}}
 
 
-def blow_sweep(cases: int, chunk: int, seed: int = 1):
+def blow_sweep(cases: int, chunk: int, seed: int = 1, mix: str = "batch"):
     """The benchmark's sweep: ``cases`` single blows over the Fig. 2 plane."""
-    return sweep_spec(f"bench{seed}", {
+    spec = sweep_spec(f"bench-{mix}-{seed}", {
         "sweep": {"kind": "blow", "seed": seed, "samples": cases, "chunk": chunk},
         "random": _PLANE, "soil": {"contact_growth": False},
         "model": {"elastic": False, "solver": "exact"},
-        "blows": {"amplitude": 23e3, "duration": 0.05}})
+        "blows": {"amplitude": 23e3, "duration": 0.05}, "output": MIXES[mix]})
+    assert spec.runner == ("batch" if mix == "batch" else "case"), spec.runner
+    return spec
 
 
 class EmptyChunks:
@@ -70,11 +86,19 @@ class EmptyChunks:
         return pa.table({"case": pa.array([c], pa.int64())})
 
 
-def in_process(spec, chunks: int) -> float:
-    """Seconds per case, chunks run here."""
-    start = time.perf_counter()
-    cases = sum(spec.run_chunk(c).num_rows for c in range(chunks))
-    return (time.perf_counter() - start) / cases
+def in_process(spec, chunks: int, folder: Path) -> tuple[float, float]:
+    """Seconds per case of running and encoding chunks here, and of writing their files."""
+    work = write = 0.0
+    cases = 0
+    for c in range(chunks):
+        start = time.perf_counter()
+        table = spec.run_chunk(c)
+        data = parquet_bytes(table)
+        middle = time.perf_counter()
+        (folder / f"{c}.parquet").write_bytes(data)
+        work, write = work + middle - start, write + time.perf_counter() - middle
+        cases += table.num_rows
+    return work / cases, write / cases
 
 
 def engine_seconds(spec, client, folder: Path) -> float:
@@ -83,80 +107,111 @@ def engine_seconds(spec, client, folder: Path) -> float:
     return run.seconds
 
 
+def _warm(client, folder: Path) -> None:
+    """Each worker loads what both mixes run (compiled code from the disk cache)."""
+    for mix in MIXES:
+        engine_seconds(blow_sweep(400, 100, seed=9, mix=mix), client, folder / f"warm-{mix}")
+
+
+def one_against_two(specs: dict, repeat: int, folder: Path) -> dict:
+    """mix -> {workers: [seconds of each run]}: 1 and 2 workers alternately, ``repeat``
+    times (a fresh LocalCluster each time, warmed first)."""
+    times = {mix: {1: [], 2: []} for mix in specs}
+    for _ in range(repeat):
+        for w in (1, 2):
+            with dask_client(workers=w) as client:
+                _warm(client, folder)
+                for mix, spec in specs.items():
+                    times[mix][w].append(engine_seconds(spec, client, folder / mix))
+    return times
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--cases", type=int, default=40_000, help="cases of the 1-vs-2 run")
-    parser.add_argument("--chunk", type=int, default=2000, help="cases per chunk (1-vs-2)")
-    parser.add_argument("--repeat", type=int, default=2, help="alternate 1- and 2-worker runs")
     parser.add_argument("--million", type=int, default=1_000_000,
-                        help="cases of the big run on 2 workers (0: skip)")
-    parser.add_argument("--big-chunk", type=int, default=10_000, help="cases per chunk (big)")
+                        help="cases of the batch mix (its 1-vs-2 runs)")
+    parser.add_argument("--chunk", type=int, default=50_000, help="cases per chunk (batch)")
+    parser.add_argument("--slow-cases", type=int, default=40_000,
+                        help="cases of the per-case mix")
+    parser.add_argument("--slow-chunk", type=int, default=2000,
+                        help="cases per chunk (per-case)")
+    parser.add_argument("--repeat", type=int, default=2, help="alternate 1- and 2-worker runs")
     parser.add_argument("--empty", type=int, default=200, help="empty chunks timed for s")
     args = parser.parse_args(argv)
     print(f"sweep benchmark, {time.strftime('%Y-%m-%d %H:%M:%S')}, {os.cpu_count()} cores, "
           f"load average {os.getloadavg()[0]:.2f} (the machine is shared: ratios from one run)",
           flush=True)
-    spec = blow_sweep(args.cases, args.chunk)
-    spec.run_chunk(0)                                                   # warm-up: imports
-    c0 = in_process(spec, max(1, min(spec.n_chunks, 4000 // args.chunk + 1)))
-    print(f"in this process: {c0 * 1e6:.1f} us per case ({1 / c0:,.0f} cases/s)", flush=True)
+    specs = {"batch": blow_sweep(args.million, args.chunk),
+             "per-case": blow_sweep(args.slow_cases, args.slow_chunk, mix="per-case")}
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
-        times = {1: [], 2: []}
+        here = {}
+        for mix, spec in specs.items():
+            spec.run_chunk(spec.n_chunks - 1)                         # warm-up: imports, JIT
+            (tmp / f"here-{mix}").mkdir()
+            here[mix] = in_process(spec, min(spec.n_chunks, 4), tmp / f"here-{mix}")
+            print(f"{mix}: in this process {here[mix][0] * 1e6:.2f} us per case run and "
+                  f"encoded ({1 / here[mix][0]:,.0f} cases/s); writing its file "
+                  f"{here[mix][1] * 1e6:.3f} us per case", flush=True)
         start = time.perf_counter()
         with dask_client(workers=1) as client:
             t_start = time.perf_counter() - start
-            engine_seconds(blow_sweep(400, 200, seed=9), client, tmp / "warm")
+            _warm(client, tmp)
             s = engine_seconds(EmptyChunks(args.empty), client, tmp / "empty") / args.empty
-            print(f"LocalCluster start {t_start:.2f} s; engine cost per chunk s = "
-                  f"{s * 1e3:.2f} ms ({args.empty} empty chunks, 1 worker)", flush=True)
-            times[1].append(engine_seconds(spec, client, tmp / "w1"))
-        for k in range(args.repeat):
-            with dask_client(workers=2) as client:
-                engine_seconds(blow_sweep(400, 200, seed=9), client, tmp / "warm")
-                times[2].append(engine_seconds(spec, client, tmp / "w2"))
-                if k == args.repeat - 1 and args.million:
-                    big = blow_sweep(args.million, args.big_chunk, seed=2)
-                    t_big = engine_seconds(big, client, tmp / "big")
-            if k < args.repeat - 1:
-                with dask_client(workers=1) as client:
-                    engine_seconds(blow_sweep(400, 200, seed=9), client, tmp / "warm")
-                    times[1].append(engine_seconds(spec, client, tmp / "w1"))
-        t1, t2 = min(times[1]), min(times[2])
-        for w, ts in times.items():
-            print(f"{w} worker(s): {args.cases} cases in chunks of {args.chunk}: "
-                  + ", ".join(f"{t:.2f} s" for t in ts)
-                  + f"; best {args.cases / min(ts):,.0f} cases/s, "
-                  f"{args.cases / min(ts) / w:,.0f} cases/s per worker", flush=True)
-        c = t1 / args.cases
-        speedup = t1 / t2
-        print(f"c = {c * 1e6:.1f} us per case per worker (1 worker; in-process {c0 * 1e6:.1f} "
-              f"us: engine overhead {100 * (c / c0 - 1):+.1f} %)")
-        print(f"2 workers against 1: speed-up {speedup:.2f} (target >= 1.6: "
-              f"{'met' if speedup >= 1.6 else 'NOT met'}), parallel efficiency "
-              f"{100 * speedup / 2:.0f} %", flush=True)
-        if args.million:
-            print(f"{args.million:,} single blows on 2 workers, chunks of {args.big_chunk}: "
-                  f"{t_big:.1f} s ({args.million / t_big:,.0f} cases/s, "
-                  f"{2 * t_big / args.million * 1e6:.1f} us per case per worker); model "
-                  f"predicts {_projected(args.million, 2, args.big_chunk, c, s, 0.0):.1f} s",
-                  flush=True)
-        _projection(c, s, t_start, args.big_chunk)
+        print(f"LocalCluster start {t_start:.2f} s; engine cost per chunk s = {s * 1e3:.2f} ms "
+              f"({args.empty} empty chunks, 1 worker)", flush=True)
+        times = one_against_two(specs, args.repeat, tmp)
+    print(f"load average after the runs {os.getloadavg()[0]:.2f}")
+    c = {mix: _report(mix, specs[mix], times[mix], s) for mix in specs}
+    big = specs["batch"]
+    t_big = min(times["batch"][2])
+    print(f"{big.n_cases:,} single blows (batch API) on 2 workers, chunks of {big.chunk:,}: "
+          f"{t_big:.2f} s ({big.n_cases / t_big:,.0f} cases/s); the model below predicts "
+          f"{_projected(big.n_cases, 2, big.chunk, c['batch'], s, here['batch'][1], 0.0):.2f} s",
+          flush=True)
+    _projection(c["batch"], s, here["batch"][1], t_start, big.chunk)
     return 0
 
 
-def _projected(n: int, w: int, b: int, c: float, s: float, t_start: float) -> float:
-    return t_start + (n * c + math.ceil(n / b) * s) / w
+def _report(mix: str, spec, times: dict, s: float) -> float:
+    """Print a mix's rates, speed-up and efficiency; return c, seconds per case per worker."""
+    n = spec.n_cases
+    for w, ts in times.items():
+        print(f"{mix}, {w} worker(s): {n:,} cases in {spec.n_chunks} chunks of {spec.chunk:,}: "
+              + ", ".join(f"{t:.2f} s" for t in ts) + f"; best {n / min(ts):,.0f} cases/s, "
+              f"{n / min(ts) / w:,.0f} cases/s per worker", flush=True)
+    t1, t2 = min(times[1]), min(times[2])
+    c = t1 / n
+    print(f"{mix}: c = {c * 1e6:.2f} us per case per worker (1 worker); a chunk's work "
+          f"{spec.chunk * c * 1e3:.0f} ms against s = {s * 1e3:.2f} ms; 2 workers against 1: "
+          f"speed-up {t1 / t2:.2f} (target >= 1.6: {'met' if t1 / t2 >= 1.6 else 'NOT met'}), "
+          f"parallel efficiency {100 * t1 / t2 / 2:.0f} %", flush=True)
+    return c
 
 
-def _projection(c: float, s: float, t_start: float, b: int) -> None:
-    print(f"projection T(N, W) = t_start + (N c + ceil(N/B) s) / W with c = {c * 1e6:.1f} us, "
-          f"s = {s * 1e3:.2f} ms, t_start = {t_start:.1f} s (this machine's), B = {b}; "
-          f"scheduler-bound beyond W_max = B c / s = {b * c / s:,.0f} workers:")
-    for n in (10 ** 6, 10 ** 8):
-        cells = ", ".join(f"W={w}: {_human(_projected(n, w, b, c, s, t_start))}"
-                          for w in (2, 16, 64, 256, 1024) if w <= b * c / s)
-        print(f"  N = {n:.0e}: {cells}")
+def _projected(n: int, w: int, b: int, c: float, s: float, write: float,
+               t_start: float) -> float:
+    chunks = math.ceil(n / b)
+    return t_start + max((n * c + chunks * s) / w, chunks * s + n * write)
+
+
+def _projection(c: float, s: float, write: float, t_start: float, b: int) -> None:
+    print(f"projection (batch API): T(N, W) = t_start + max((N c + n s) / W, n s + N w), "
+          f"n = ceil(N/B), with c = {c * 1e6:.2f} us, s = {s * 1e3:.2f} ms, w = "
+          f"{write * 1e6:.3f} us, t_start = {t_start:.1f} s (this machine's):")
+    for chunk in (b, 10 * b):
+        print(f"  B = {chunk:,}: the scheduler and the client set the pace beyond W_max = "
+              f"{w_max(c, s, write, chunk):,.0f} workers")
+        for n in (10 ** 6, 10 ** 8, 10 ** 10):
+            cells = ", ".join(f"W={w}: {_human(_projected(n, w, chunk, c, s, write, t_start))}"
+                              for w in (2, 16, 64, 256, 1024))
+            print(f"    N = {n:.0e}: {cells}")
+
+
+def w_max(c: float, s: float, write: float, b: int) -> float:
+    """The workers beyond which the serial part (chunks through the scheduler and client,
+    cases written) outlasts the workers' share."""
+    return (c + s / b) / (write + s / b)
 
 
 def _human(seconds: float) -> str:

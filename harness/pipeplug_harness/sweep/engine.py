@@ -7,8 +7,8 @@ from the campaign and their indices: only the campaign, chunk numbers and result
 :func:`map_chunks` runs chunks and hands each result to a collector
 in this process (a fuzz run's summary); :func:`run_campaign` collects into an output folder:
 ``run_chunk`` gives a ``pyarrow.Table``, the campaign has a ``digest``, and the engine submits
-the chunks not yet in the folder and the client writes each chunk's table as it arrives
-(:class:`~.store.ChunkStore`: whole or not at all), so:
+the chunks not yet in the folder; each task encodes its table as a Parquet file's bytes and
+the client writes them as they arrive (:class:`~.store.ChunkStore`: whole or not at all), so:
 
 * a rerun skips the finished chunks;
 * a worker that dies loses nothing: Dask runs its unfinished chunks again on another worker,
@@ -24,7 +24,7 @@ import time
 import uuid
 from dataclasses import dataclass, field
 
-from .store import ChunkStore
+from .store import ChunkStore, parquet_bytes
 
 __all__ = ["map_chunks", "run_campaign", "ChunkRun", "CampaignRun"]
 
@@ -53,8 +53,12 @@ def _run(campaign, c: int):
     return campaign.run_chunk(c)
 
 
+def _run_encoded(campaign, c: int) -> bytes:
+    return parquet_bytes(campaign.run_chunk(c))
+
+
 def map_chunks(campaign, chunks, client, collect, *, progress: bool = True,
-               on_chunk=None, skipped: int = 0) -> ChunkRun:
+               on_chunk=None, skipped: int = 0, task=_run) -> ChunkRun:
     """Run ``campaign.run_chunk(c)`` for each of ``chunks`` on ``client``'s cluster and hand
     each result to ``collect(c, result)`` in this process, in the order they finish.
 
@@ -74,6 +78,8 @@ def map_chunks(campaign, chunks, client, collect, *, progress: bool = True,
         ``on_chunk(c, run)`` after chunk ``c`` is collected.
     skipped : int
         Chunks done before (counted in the bar and the record).
+    task : callable
+        ``task(campaign, c)``, what a worker runs for chunk ``c`` (default: ``run_chunk``).
     """
     from distributed import as_completed
     from tqdm import tqdm
@@ -87,7 +93,7 @@ def map_chunks(campaign, chunks, client, collect, *, progress: bool = True,
         # Each task carries the campaign (a few kB) rather than sharing one scattered copy:
         # a task then needs nothing that a dead worker might have held.
         token = uuid.uuid4().hex[:8]
-        futures = {client.submit(_run, campaign, c, key=f"{campaign.name}-{token}-{c}",
+        futures = {client.submit(task, campaign, c, key=f"{campaign.name}-{token}-{c}",
                                  retries=0): c for c in todo}
         for future in as_completed(futures):
             c = futures.pop(future)
@@ -128,4 +134,5 @@ def run_campaign(campaign, out, client, *, fresh: bool = False, progress: bool =
     store = ChunkStore(out, campaign.digest, campaign.n_chunks, fresh=fresh, about=about)
     todo = [c for c in range(campaign.n_chunks) if not store.done(c)]
     return map_chunks(campaign, todo, client, store.write, progress=progress,
-                      on_chunk=on_chunk, skipped=campaign.n_chunks - len(todo))
+                      on_chunk=on_chunk, skipped=campaign.n_chunks - len(todo),
+                      task=_run_encoded)

@@ -1,7 +1,9 @@
 """A campaign's output folder: one Parquet file per finished chunk, and what campaign it holds.
 
 The folder is one Parquet dataset (``part-000000.parquet``, ...; readers skip the ``_`` and
-``.`` files). A chunk's file is written under a temporary name and renamed into place, so a file
+``.`` files). A chunk's file is encoded where the chunk ran (:func:`parquet_bytes`: the encoding
+costs about as much as a compiled single blow, so the workers share it instead of the one
+process collecting), then written under a temporary name and renamed into place, so a file
 is there whole or not at all: a run stopped at any point leaves only finished chunks, and a
 rerun writes the missing ones. ``_campaign.json`` holds the campaign's digest; a folder holding
 another campaign is refused (or emptied with ``fresh``).
@@ -15,7 +17,7 @@ from pathlib import Path
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-__all__ = ["ChunkStore", "StoreError", "read_folder"]
+__all__ = ["ChunkStore", "StoreError", "read_folder", "parquet_bytes"]
 
 _MANIFEST = "_campaign.json"
 _PREFIX = "part-"
@@ -51,15 +53,23 @@ class ChunkStore:
     def done(self, c: int) -> bool:
         return self.path(c).exists()
 
-    def write(self, c: int, table: pa.Table) -> None:
-        """Write chunk ``c`` whole or not at all."""
+    def write(self, c: int, data: bytes) -> None:
+        """Write chunk ``c`` (a Parquet file's bytes, :func:`parquet_bytes`) whole or not at
+        all."""
         final = self.path(c)
         tmp = final.with_name(f".{final.name}.tmp")
-        pq.write_table(table, tmp)
+        tmp.write_bytes(data)
         os.replace(tmp, final)
 
     def parts(self) -> list[Path]:
         return sorted(self.folder.glob(f"{_PREFIX}*.parquet"))
+
+
+def parquet_bytes(table: pa.Table) -> bytes:
+    """The Parquet file of ``table``, in memory."""
+    sink = pa.BufferOutputStream()
+    pq.write_table(table, sink)
+    return sink.getvalue().to_pybytes()
 
 
 def read_folder(folder: str | os.PathLike) -> pa.Table:
