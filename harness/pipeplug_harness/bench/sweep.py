@@ -21,22 +21,30 @@ tau2 < 0.08 MPa), in two mixes:
 Measured, in one run:
 
 1. per mix, ``c0``: a chunk's cost per case in this process, its table encoded as Parquet (what
-   a worker does), and ``w``: the client's cost per case of writing a chunk's file;
+   a worker does), and the cost per case of writing a chunk's file;
 2. ``s``: the engine's cost per chunk: empty chunks through a one-worker LocalCluster (the
    scheduler's round trip, moving the result, the client writing its file);
 3. per mix, the sweep on 1 and on 2 workers, alternately ``--repeat`` times (the best of each
    counts: the machine is shared): cases per second, ``c`` (seconds per case per worker), the
    speed-up T1 / T2 and the parallel efficiency T1 / (2 T2) (target: speed-up >= 1.6). The
-   batch mix's sweep is the ``--million`` run;
+   batch mix's sweep is the ``--million`` run. Beside each run: the cores that the rest of the
+   machine took meanwhile (busy CPU time of the machine, less that of this process and its
+   workers, plus the time the hypervisor gave elsewhere, over the run's wall time): a 2-worker
+   run is only a fair measure when that is near 0. Also ``w``: the CPU time per case of this
+   process (the client and the LocalCluster's scheduler: receiving each chunk's file, writing
+   it; its part per chunk is then counted in ``s`` too, the pessimistic side) in the 1-worker
+   runs. Here it shares the 2 cores with the workers, which bounds the speed-up by
+   ``2 c / (c + w)``;
 4. the projection for W workers of a cluster (batch mix)::
 
        T(N, W) = t_start + max((N c + n s) / W, n s + N w),   n = ceil(N / B)
 
-   with ``c``, ``s``, ``w`` as measured here (a cluster's cores may be faster or slower): the
-   workers share the cases and the chunks' costs; the scheduler and the client take the chunks
-   one at a time (counting all of ``s`` there is the pessimistic side) and the client writes
-   every case. Beyond ``W_max = (c + s / B) / (w + s / B)`` workers they, not the workers, set
-   the pace: larger chunks raise it (the projection is printed for B and 10 B).
+   with ``c``, ``s``, ``w`` as measured here (a cluster's cores may be faster or slower; the
+   client on a machine of its own): the workers share the cases and the chunks' costs; the
+   scheduler and the client take the chunks one at a time (counting all of ``s`` there is the
+   pessimistic side) and the client receives and writes every case. Beyond
+   ``W_max = (c + s / B) / (w + s / B)`` workers they, not the workers, set the pace: larger
+   chunks raise it (the projection is printed for B and 10 B).
 """
 from __future__ import annotations
 
@@ -46,6 +54,7 @@ import os
 import tempfile
 import time
 from pathlib import Path
+from typing import NamedTuple
 
 import pyarrow as pa
 
@@ -113,8 +122,30 @@ def _warm(client, folder: Path) -> None:
         engine_seconds(blow_sweep(400, 100, seed=9, mix=mix), client, folder / f"warm-{mix}")
 
 
+def _cpu_seconds() -> tuple[float, float]:
+    """Busy CPU seconds of the machine (with the hypervisor's steal) and of this process with
+    its children (the workers)."""
+    import psutil
+    m = psutil.cpu_times()
+    me = psutil.Process()
+    ours = 0.0
+    for proc in [me, *me.children(recursive=True)]:
+        try:
+            t = proc.cpu_times()
+            ours += t.user + t.system
+        except psutil.NoSuchProcess:
+            pass
+    return m.user + m.nice + m.system + m.irq + m.softirq + m.steal, ours
+
+
+class Run(NamedTuple):
+    seconds: float        #: wall time
+    others: float         #: cores the rest of the machine took meanwhile
+    client: float         #: CPU seconds of this process (client and scheduler)
+
+
 def one_against_two(specs: dict, repeat: int, folder: Path) -> dict:
-    """mix -> {workers: [seconds of each run]}: 1 and 2 workers alternately, ``repeat``
+    """mix -> {workers: [:class:`Run` of each run]}: 1 and 2 workers alternately, ``repeat``
     times (a fresh LocalCluster each time, warmed first)."""
     times = {mix: {1: [], 2: []} for mix in specs}
     for _ in range(repeat):
@@ -122,8 +153,17 @@ def one_against_two(specs: dict, repeat: int, folder: Path) -> dict:
             with dask_client(workers=w) as client:
                 _warm(client, folder)
                 for mix, spec in specs.items():
-                    times[mix][w].append(engine_seconds(spec, client, folder / mix))
+                    (busy, ours), mine = _cpu_seconds(), _own_cpu()
+                    seconds = engine_seconds(spec, client, folder / mix)
+                    (busy2, ours2), mine2 = _cpu_seconds(), _own_cpu()
+                    others = max(0.0, (busy2 - busy) - (ours2 - ours)) / seconds
+                    times[mix][w].append(Run(seconds, others, mine2 - mine))
     return times
+
+
+def _own_cpu() -> float:
+    t = os.times()
+    return t.user + t.system
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -162,31 +202,38 @@ def main(argv: list[str] | None = None) -> int:
               f"({args.empty} empty chunks, 1 worker)", flush=True)
         times = one_against_two(specs, args.repeat, tmp)
     print(f"load average after the runs {os.getloadavg()[0]:.2f}")
-    c = {mix: _report(mix, specs[mix], times[mix], s) for mix in specs}
-    big = specs["batch"]
-    t_big = min(times["batch"][2])
+    costs = {mix: _report(mix, specs[mix], times[mix], s) for mix in specs}
+    (c, w), big = costs["batch"], specs["batch"]
+    t_big = min(r.seconds for r in times["batch"][2])
     print(f"{big.n_cases:,} single blows (batch API) on 2 workers, chunks of {big.chunk:,}: "
           f"{t_big:.2f} s ({big.n_cases / t_big:,.0f} cases/s); the model below predicts "
-          f"{_projected(big.n_cases, 2, big.chunk, c['batch'], s, here['batch'][1], 0.0):.2f} s",
-          flush=True)
-    _projection(c["batch"], s, here["batch"][1], t_start, big.chunk)
+          f"{_projected(big.n_cases, 2, big.chunk, c, s, w, 0.0):.2f} s with its client on "
+          f"cores of its own, {(big.n_cases * (c + w) + big.n_chunks * s) / 2:.2f} s sharing "
+          f"these 2", flush=True)
+    _projection(c, s, w, t_start, big.chunk)
     return 0
 
 
-def _report(mix: str, spec, times: dict, s: float) -> float:
-    """Print a mix's rates, speed-up and efficiency; return c, seconds per case per worker."""
+def _report(mix: str, spec, times: dict, s: float) -> tuple[float, float]:
+    """Print a mix's rates, speed-up and efficiency; return ``c``, seconds per case per worker,
+    and ``w``, this process's CPU seconds per case (both from the best 1-worker run)."""
     n = spec.n_cases
-    for w, ts in times.items():
-        print(f"{mix}, {w} worker(s): {n:,} cases in {spec.n_chunks} chunks of {spec.chunk:,}: "
-              + ", ".join(f"{t:.2f} s" for t in ts) + f"; best {n / min(ts):,.0f} cases/s, "
-              f"{n / min(ts) / w:,.0f} cases/s per worker", flush=True)
-    t1, t2 = min(times[1]), min(times[2])
-    c = t1 / n
-    print(f"{mix}: c = {c * 1e6:.2f} us per case per worker (1 worker); a chunk's work "
-          f"{spec.chunk * c * 1e3:.0f} ms against s = {s * 1e3:.2f} ms; 2 workers against 1: "
-          f"speed-up {t1 / t2:.2f} (target >= 1.6: {'met' if t1 / t2 >= 1.6 else 'NOT met'}), "
-          f"parallel efficiency {100 * t1 / t2 / 2:.0f} %", flush=True)
-    return c
+    for workers, runs in times.items():
+        best = min(r.seconds for r in runs)
+        print(f"{mix}, {workers} worker(s): {n:,} cases in {spec.n_chunks} chunks of "
+              f"{spec.chunk:,}: " + ", ".join(f"{r.seconds:.2f} s ({r.others:.2f})" for r in runs)
+              + f" (in brackets: cores taken by the rest of the machine); best "
+              f"{n / best:,.0f} cases/s, {n / best / workers:,.0f} cases/s per worker",
+              flush=True)
+    one, two = (min(times[k], key=lambda r: r.seconds) for k in (1, 2))
+    c, w, speedup = one.seconds / n, one.client / n, one.seconds / two.seconds
+    print(f"{mix}: c = {c * 1e6:.2f} us per case per worker, client and scheduler w = "
+          f"{w * 1e6:.2f} us CPU per case (1 worker); a chunk's work {spec.chunk * c * 1e3:.0f} "
+          f"ms against s = {s * 1e3:.2f} ms; 2 workers against 1: speed-up {speedup:.2f} "
+          f"(target >= 1.6: {'met' if speedup >= 1.6 else 'NOT met'}), parallel efficiency "
+          f"{100 * speedup / 2:.0f} %; the client sharing the 2 cores bounds it at "
+          f"{2 * c / (c + w):.2f}", flush=True)
+    return c, w
 
 
 def _projected(n: int, w: int, b: int, c: float, s: float, write: float,
