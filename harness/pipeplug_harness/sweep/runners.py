@@ -21,8 +21,8 @@ RUNNERS = {"batch": batch.run_chunk, "case": cases.run_chunk}
 #: what a sweep needs for the batch API -> its test on the sweep (:class:`~.file.SweepSpec`)
 BATCH_RULES = {
     "single blows ([sweep] kind = \"blow\")": lambda s: s.kind == "blow",
-    "no mode sequence (the batch API keeps none: [output] modes = false, a report that does "
-    "not need it)": lambda s: not s.modes,
+    # it keeps no mode log
+    "no mode sequence ([output] modes = false, a report needing none)": lambda s: not s.modes,
     "rigid ([model] elastic = false)": lambda s: s.base.get("elastic") is False,
     "the exact solver ([model] solver unset or \"exact\")":
         lambda s: s.base.get("solver") in (None, "exact"),
@@ -52,4 +52,4 @@ def described(spec) -> str:
     if spec.runner == "batch":
         return "cases run by the core's batch API, one call per chunk"
     misses = batch_misses(spec) if spec.kind == "blow" else []
-    return "one model per case" + (f" (the batch API needs {misses[0]})" if misses else "")
+    return "one model per case" + (f"; the batch API needs {misses[0]}" if misses else "")

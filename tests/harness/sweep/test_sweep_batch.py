@@ -46,9 +46,11 @@ def test_which_sweeps_take_the_batch_api(raw, miss):
 
 
 def test_the_paper_s_sweeps_take_their_paths():
-    """Fig. 2 needs the mode sequences: one model per case; the drives are drives."""
+    """Fig. 2 needs the mode sequences: one model per case; the drives are drives; the
+    million single blows take the batch API."""
     assert load_sweep("scenes/sweeps/fig2_domains.toml").runner == "case"
     assert load_sweep("scenes/sweeps/drivability_mc.toml").runner == "case"
+    assert load_sweep("scenes/sweeps/single_blows_mc.toml").runner == "batch"
 
 
 @pytest.mark.parametrize("growth", [False, True])
