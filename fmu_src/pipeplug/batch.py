@@ -10,8 +10,9 @@ fresh state::
     out = blows({"tau1": np.linspace(0.0, 6e4, 1000)}, amplitude=23e3, duration=0.05)
     out["u_pipe"]            # final pipe displacement of each case [m]
 
-The values are those of :func:`pipeplug.build_model` advanced through the same blow (the same
-functions, :mod:`pipeplug.rigid.stepping`).
+The values are those of :func:`pipeplug.build_model` advanced through the same blow and then
+under no load in steps doubling from the blow's duration, the last one cut at ``t_max``, until
+all is at rest (the same functions, :mod:`pipeplug.rigid.stepping`, and the same steps).
 """
 from __future__ import annotations
 
@@ -46,7 +47,8 @@ from .rigid.stepping import (
 __all__ = ["blows", "RESULTS"]
 
 #: the results of each case, in the order of the kernel's table
-RESULTS = ("u_pipe", "u_plug", "W_input", "W_friction_outer", "W_friction_inner", "t_rest")
+RESULTS = ("u_pipe", "u_plug", "W_input", "W_friction_outer", "W_friction_inner", "t_rest",
+           "t_end")
 
 
 def blows(params=None, amplitude=23e3, duration=0.05, contact_growth: bool = False, *,
@@ -66,7 +68,8 @@ def blows(params=None, amplitude=23e3, duration=0.05, contact_growth: bool = Fal
         Model II (outer friction over the penetrated length) instead of model I.
     t_max : float
         A case not at rest by this time [s] (e.g. tau1 = 0: nothing stops the pipe) has
-        ``t_rest = inf`` and NaN for its other results.
+        ``t_rest = inf`` and NaN for its other results (``t_end = t_max``); the steps stop
+        there.
     compiled : bool
         Run compiled when numba is available (default), else plain Python.
 
@@ -74,8 +77,10 @@ def blows(params=None, amplitude=23e3, duration=0.05, contact_growth: bool = Fal
     -------
     dict of arrays
         Per case: ``u_pipe``, ``u_plug`` [m] at rest, ``W_input``, ``W_friction_outer``,
-        ``W_friction_inner`` [J] (all of the input work is dissipated), and ``t_rest`` [s],
-        the time from the blow's start at which all is at rest.
+        ``W_friction_inner`` [J] (all of the input work is dissipated), ``t_rest`` [s], the
+        time from the blow's start at which all is at rest, and ``t_end`` [s], the end of the
+        step after which it was found at rest: the blow, then steps doubling from its duration
+        (``duration``, ``2 duration``, ``4 duration``, ...; the last one cut at ``t_max``).
 
     Raises
     ------
@@ -127,7 +132,7 @@ def blows_into(st, par, log, pars, amplitude, duration, t_max, out):
         h = float(duration[i])
         code = step_to(st, par, log, float(amplitude[i]), h)
         while code == OK and not at_rest(st) and st[TIME] < t_max:
-            code = step_to(st, par, log, 0.0, st[TIME] + h)     # steps doubling until at rest
+            code = step_to(st, par, log, 0.0, min(t_max, st[TIME] + h))    # doubling steps
             h = 2.0 * h
         if code != OK:
             return code, i
@@ -139,4 +144,5 @@ def blows_into(st, par, log, pars, amplitude, duration, t_max, out):
             for j in range(5):
                 out[i, j] = math.nan
             out[i, 5] = math.inf
+        out[i, 6] = st[TIME]
     return OK, -1

@@ -35,6 +35,10 @@ SUBCOMMANDS = {
     "fuzz": ("pipeplug_harness.fuzz.command", "harness",
              "differential fuzzing of the rigid models: random cases through the core, the "
              "reference, the FMU and the fd scheme; invariants, summary, replayable failures"),
+    "sweep": ("pipeplug_harness.sweep.command", "dask",
+              "run a sweep (TOML: a grid or random sample of single blows or whole drives) "
+              "through the core on a Dask cluster (this machine by default); Parquet out, "
+              "resumable; reports: the paper's Fig. 2 domains, probabilistic drivability"),
 }
 
 

@@ -38,6 +38,25 @@ def test_model_I_blows_match_the_closed_form(compiled):
             assert out["t_rest"][i] == pytest.approx(ref["t_rest"], rel=1e-12), i
         else:
             assert out["t_rest"][i] == BASE.t0
+        # the steps end at t0, 2 t0, 4 t0, ...: t_end is the first end past the rest (after the
+        # blow's own step: under load nothing is at rest)
+        k = max(1, math.ceil(math.log2(ref["t_rest"] / BASE.t0)))
+        assert abs(ref["t_rest"] / (BASE.t0 * 2.0 ** k) - 1.0) > 1e-9     # not at a step end
+        assert out["t_end"][i] == BASE.t0 * 2.0 ** k, i
+
+
+def test_the_last_step_is_cut_at_t_max():
+    """tau1 = 0.2 tau*, no plug: at rest at 0.25 s (closed form), between the step ends 0.2
+    and 0.4 s. With t_max = 0.3 s the last step ends there, at rest; with 0.24 s the case is
+    still moving at t_max."""
+    tau1 = 0.2 * BASE.tau_star
+    ref = _closed_form_at_rest(tau1, 0.0)
+    assert ref["t_rest"] == pytest.approx(0.25, rel=1e-12)
+    done = blows({"tau1": [tau1], "tau2": [0.0]}, BASE.Q0, BASE.t0, t_max=0.3)
+    assert done["t_end"][0] == 0.3 and done["t_rest"][0] == pytest.approx(0.25, rel=1e-12)
+    assert done["u_pipe"][0] == pytest.approx(ref["u_pipe"], rel=1e-12)
+    moving = blows({"tau1": [tau1], "tau2": [0.0]}, BASE.Q0, BASE.t0, t_max=0.24)
+    assert moving["t_end"][0] == 0.24 and moving["t_rest"][0] == math.inf
 
 
 def _random(n: int, seed: int) -> dict:

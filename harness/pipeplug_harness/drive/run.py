@@ -1,4 +1,5 @@
-"""A whole drive through one FMU instance: blow after blow until the target or refusal.
+"""A whole drive through one FMU instance (or one core model): blow after blow until the target
+or refusal.
 
 Blow ``k`` (from 0) acts from ``t_k = k * period`` to ``t_k + duration``; its window ends where
 the next blow starts, so the drive takes ``blows * period``. The blow's edges are communication
@@ -33,9 +34,9 @@ from dataclasses import dataclass, field
 from typing import NamedTuple
 
 from .file import DriveSpec
-from .session import FmuSession, Reading
+from .session import CoreSession, FmuSession, Reading, Session
 
-__all__ = ["Blow", "DriveResult", "run_drive", "OUTCOMES"]
+__all__ = ["Blow", "DriveResult", "run_drive", "run_drive_on_core", "drive_with", "OUTCOMES"]
 
 #: outcome -> what it means (the summary's words)
 OUTCOMES = {
@@ -89,19 +90,31 @@ class DriveResult:
 
 def run_drive(spec: DriveSpec, fmu) -> DriveResult:
     """Drive the pipe blow by blow through one instance of the FMU ``fmu``."""
+    with FmuSession(fmu, spec.start_values) as session:
+        return drive_with(spec, session)
+
+
+def run_drive_on_core(spec: DriveSpec) -> DriveResult:
+    """Drive the pipe blow by blow through one core model (no FMU: the same model, stepped as
+    the FMU steps it)."""
+    with CoreSession(spec.start_values) as session:
+        return drive_with(spec, session)
+
+
+def drive_with(spec: DriveSpec, session: Session) -> DriveResult:
+    """Drive the pipe blow by blow through ``session`` (an instance at t = 0, at rest)."""
     result = DriveResult(spec)
     pace = _pace(spec)
-    with FmuSession(fmu, spec.start_values) as fmu_session:
-        before = _ZERO
-        for k in range(spec.max_blows):
-            blow, before = _blow(fmu_session, spec, k, before, pace)
-            result.blows.append(blow)
-            result.outcome = _verdict(spec, result.blows)
-            if result.outcome:
-                break
-        else:
-            result.outcome = "max_blows"
-        result.steps = fmu_session.steps
+    before = _ZERO
+    for k in range(spec.max_blows):
+        blow, before = _blow(session, spec, k, before, pace)
+        result.blows.append(blow)
+        result.outcome = _verdict(spec, result.blows)
+        if result.outcome:
+            break
+    else:
+        result.outcome = "max_blows"
+    result.steps = session.steps
     return result
 
 
@@ -143,7 +156,7 @@ def _blow_points(t0: float, duration: float, pace: _Pace) -> list:
     return points
 
 
-def _blow(s: FmuSession, spec: DriveSpec, k: int, before: Reading,
+def _blow(s: Session, spec: DriveSpec, k: int, before: Reading,
           pace: _Pace) -> tuple[Blow, Reading]:
     """Blow ``k`` and the motion after it, up to the next blow's start."""
     t0, h, t_next = k * spec.period, pace.step, (k + 1) * spec.period

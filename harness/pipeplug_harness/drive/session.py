@@ -1,15 +1,21 @@
-"""One PipePlug FMU instance for a whole drive, through FMPy's raw FMI 2.0 co-simulation API.
+"""One PipePlug instance for a whole drive: the FMU's (:class:`FmuSession`) or the core's
+(:class:`CoreSession`), both of the small interface :class:`Session` the drive loop uses.
 
-The instance is set up once (start values in initialization mode, no stop time) and stepped
-by the caller; its state therefore carries over from blow to blow exactly as the FMU keeps it.
-A refused step raises (FMPy turns a discard or fatal status into an exception).
+:class:`FmuSession` drives the FMU through FMPy's raw FMI 2.0 co-simulation API: the instance is
+set up once (start values in initialization mode, no stop time) and stepped by the caller; its
+state therefore carries over from blow to blow exactly as the FMU keeps it. A refused step
+raises (FMPy turns a discard or fatal status into an exception).
+
+:class:`CoreSession` steps the core model the FMU wraps (:func:`pipeplug.build_model`) as the
+FMU's ``doStep`` does, from the host's point to the host's next point, without the FMI layer:
+many drives in one process (sweeps) at the core's speed.
 """
 from __future__ import annotations
 
 import os
-from typing import NamedTuple
+from typing import NamedTuple, Protocol
 
-__all__ = ["Reading", "FmuSession"]
+__all__ = ["Reading", "Session", "FmuSession", "CoreSession"]
 
 _REALS = ("v_pipe", "v_plug", "u_pipe", "W_input", "W_friction_outer", "W_friction_inner")
 
@@ -24,6 +30,18 @@ class Reading(NamedTuple):
     W_friction_outer: float
     W_friction_inner: float
     at_rest: bool
+
+
+class Session(Protocol):
+    """What the drive loop needs of an instance: steps under a held Q, their count, close."""
+
+    steps: int       #: communication steps taken
+
+    def step(self, t: float, h: float, q: float) -> Reading:
+        """Hold Q = ``q`` [N] from ``t`` to ``t + h`` [s], then read the outputs."""
+
+    def close(self) -> None:
+        """Release the instance."""
 
 
 class FmuSession:
@@ -80,6 +98,47 @@ class FmuSession:
         self._fmu.freeInstance()
 
     def __enter__(self) -> FmuSession:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+
+class CoreSession:
+    """A core model (:func:`pipeplug.build_model`) started with ``start_values`` at t = 0.
+
+    Parameters
+    ----------
+    start_values : dict
+        Parameters and options by contract name, as for :class:`FmuSession`.
+
+    Raises
+    ------
+    pipeplug.ParameterError
+        Naming the offending parameter or option (the FMU refuses the same values).
+    """
+
+    def __init__(self, start_values: dict):
+        from pipeplug import build_model
+        from pipeplug.options import OPTIONS
+        options = {k: v for k, v in start_values.items() if k in OPTIONS}
+        params = {k: v for k, v in start_values.items() if k not in OPTIONS}
+        self.model = build_model(params, options)
+        self.steps = 0       #: communication steps taken
+
+    def step(self, t: float, h: float, q: float) -> Reading:
+        """Hold Q = ``q`` [N] from ``t`` to ``t + h`` [s] (as the FMU's doStep: the step starts
+        at the host's ``t`` and ends at exactly ``t + h``), then read the outputs."""
+        self.model.advance_to(q, t + h, t)
+        self.steps += 1
+        o = self.model.outputs()
+        return Reading(o.v_pipe, o.v_plug, o.u_pipe, o.W_input, o.W_friction_outer,
+                       o.W_friction_inner, o.at_rest)
+
+    def close(self) -> None:
+        self.model = None
+
+    def __enter__(self) -> CoreSession:
         return self
 
     def __exit__(self, *exc) -> None:

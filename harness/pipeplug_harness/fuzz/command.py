@@ -36,6 +36,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--start", type=int, default=0,
                         help="index of the first case (%(default)s)")
     parser.add_argument("--jobs", type=int, default=1, help="processes (%(default)s)")
+    parser.add_argument("--scheduler", default=None,
+                        help="run on the Dask cluster of this scheduler (e.g. "
+                             "tcp://10.0.0.5:8786; needs the 'dask' extra)")
+    parser.add_argument("--workers", type=int, default=None,
+                        help="run on a Dask LocalCluster of this many worker processes "
+                             "(needs the 'dask' extra)")
     parser.add_argument("--reference-every", type=int, default=10,
                         help="compare every N-th case with the reference (%(default)s; 0: none)")
     parser.add_argument("--fmu-every", type=int, default=20,
@@ -73,16 +79,35 @@ def main(args: argparse.Namespace) -> int:
     setup = Setup(paths, fmu=_fmu(args) if plan.fmu else None)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    summary, seconds = fuzz(args.seed, range(args.start, args.start + args.cases), plan, setup,
-                            args.jobs, failures=out / "failures")
+    indices = range(args.start, args.start + args.cases)
+    if args.scheduler or args.workers:
+        summary, seconds, jobs = _on_dask(args, indices, plan, setup, out / "failures")
+    else:
+        jobs = args.jobs
+        summary, seconds = fuzz(args.seed, indices, plan, setup, jobs, failures=out / "failures")
     title = (f"pipeplug fuzz --seed {args.seed} --start {args.start} --cases {args.cases} "
              f"(paths: {', '.join(paths)})")
-    table = f"{title}\n{summary.table(seconds, args.jobs)}"
+    table = f"{title}\n{summary.table(seconds, jobs)}"
     print(table)
     (out / "summary.txt").write_text(table + "\n")
     if summary.failures:
         print(f"\n{summary.failures} failing case(s) saved in {out / 'failures'}")
     return 1 if summary.failures else 0
+
+
+def _on_dask(args, indices, plan, setup, failures):
+    """The run on a Dask cluster (the sweep engine): summary, seconds, workers. The FMU's path
+    is made absolute: every worker must be able to read it there."""
+    from dataclasses import replace
+
+    from pipeplug_harness.sweep.cluster import dask_client
+    if setup.fmu:
+        setup = replace(setup, fmu=str(Path(setup.fmu).resolve()))
+    with dask_client(args.scheduler, args.workers) as client:
+        workers = len(client.scheduler_info()["workers"])
+        summary, seconds = fuzz(args.seed, indices, plan, setup, failures=failures,
+                                client=client)
+    return summary, seconds, workers
 
 
 def _fmu(args) -> str | None:

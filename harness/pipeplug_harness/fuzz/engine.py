@@ -1,24 +1,29 @@
 """Running many cases: generate from ``(seed, index)``, run, aggregate, save failures.
 
 The map step is :func:`run_indices` (cases generated where they run, so only indices and
-results travel); it runs in this process or in a pool of ``jobs`` processes. Any other map
-(a cluster's) can call it the same way; aggregation (:class:`~.report.Summary`) does not care
-about the order results arrive in.
+results travel); it runs in this process, in a pool of ``jobs`` processes, or on a Dask cluster
+(``client``: the sweep engine, :func:`pipeplug_harness.sweep.engine.map_chunks`, with
+:class:`FuzzCampaign`); aggregation (:class:`~.report.Summary`) does not care about the order
+results arrive in.
 """
 from __future__ import annotations
 
 import multiprocessing
 import sys
 import time
+from dataclasses import dataclass
 from pathlib import Path
 
 from .cases import Plan, generate
 from .report import Summary, save_failure
 from .run import CaseResult, Setup, run_case
 
-__all__ = ["fuzz", "run_indices"]
+__all__ = ["fuzz", "run_indices", "FuzzCampaign"]
 
 _CHUNK = 20          # cases per task of a pool
+#: cases per task on a cluster: a task costs the engine ~10 ms (scheduler round trip), a case
+#: a few ms, so a chunk of 100 keeps that under a few per cent
+DASK_CHUNK = 100
 
 
 def run_indices(seed: int, indices, plan: Plan, setup: Setup) -> list[CaseResult]:
@@ -30,12 +35,43 @@ def _task(args) -> list[CaseResult]:
     return run_indices(*args)
 
 
+@dataclass(frozen=True)
+class FuzzCampaign:
+    """The cases ``indices`` of the fuzz run ``seed`` as a campaign of the sweep engine: chunk
+    ``c`` is :func:`run_indices` of its ``chunk`` indices (a ``range`` travels as three
+    numbers)."""
+
+    seed: int
+    indices: range | tuple
+    plan: Plan
+    setup: Setup
+    chunk: int = DASK_CHUNK
+    name: str = "fuzz"
+
+    @property
+    def n_chunks(self) -> int:
+        return -(-len(self.indices) // self.chunk)
+
+    def _part(self, c: int):
+        return self.indices[c * self.chunk:(c + 1) * self.chunk]
+
+    def chunk_cases(self, c: int) -> int:
+        return len(self._part(c))
+
+    def run_chunk(self, c: int) -> list[CaseResult]:
+        return run_indices(self.seed, self._part(c), self.plan, self.setup)
+
+
 def fuzz(seed: int, indices, plan: Plan, setup: Setup, jobs: int = 1,
-         failures: Path | None = None, progress=sys.stderr) -> tuple[Summary, float]:
+         failures: Path | None = None, progress=sys.stderr,
+         client=None) -> tuple[Summary, float]:
     """Run the cases ``indices``; return the summary and the wall time [s].
 
-    Failing cases are written into ``failures`` (if given) as replayable files.
+    Failing cases are written into ``failures`` (if given) as replayable files. With a
+    ``distributed.Client``, the cases run on its cluster (``jobs`` is not used).
     """
+    if client is not None:
+        return _fuzz_on_dask(seed, indices, plan, setup, client, failures, progress)
     indices = list(indices)
     chunks = [indices[i:i + _CHUNK] for i in range(0, len(indices), _CHUNK)]
     tasks = [(seed, chunk, plan, setup) for chunk in chunks]
@@ -60,3 +96,20 @@ def _collect(batches, summary, seed, plan, setup, failures, progress, every, sta
         if progress is not None and k % every == 0:
             print(f"  {summary.cases}/{total} cases, {summary.failures} failing, "
                   f"{time.perf_counter() - start:.0f} s", file=progress, flush=True)
+
+
+def _fuzz_on_dask(seed, indices, plan, setup, client, failures, progress):
+    from pipeplug_harness.sweep.engine import map_chunks
+    indices = indices if isinstance(indices, range) else tuple(indices)
+    campaign = FuzzCampaign(seed, indices, plan, setup)
+    summary = Summary()
+
+    def collect(c, batch):
+        _collect([batch], summary, seed, plan, setup, failures, None, 1, 0.0, len(indices))
+
+    run = map_chunks(campaign, range(campaign.n_chunks), client, collect,
+                     progress=progress is not None)
+    if run.failed:
+        raise RuntimeError(f"{len(run.failed)} chunk(s) of the fuzz run failed on the cluster: "
+                           + "; ".join(f"chunk {c}: {t}" for c, t in sorted(run.failed.items())))
+    return summary, run.seconds

@@ -34,8 +34,8 @@ else:                                   # pragma: no cover - Python 3.10
 
 from pipeplug_harness.fmu_run import OUTPUTS, Pulse
 
-__all__ = ["Scene", "SceneError", "load_scene", "read_sections", "checked_sections", "elastic_choice",
-           "AUTO_RATIO", "SECTIONS"]
+__all__ = ["Scene", "SceneError", "load_scene", "read_sections", "read_toml", "checked_sections",
+           "elastic_choice", "AUTO_RATIO", "SECTIONS"]
 
 #: Blow duration / wave round trip at and above which "auto" picks the rigid model. The paper's
 #: Fig. 7 case (ratio 125) differs from the elastic model by well under 1 % in peak velocity.
@@ -92,9 +92,13 @@ def load_scene(path: str | Path) -> Scene:
 
 def read_sections(path: str | Path, sections: dict, nested=()) -> dict:
     """Read a TOML file and check it against a table of sections (see :func:`checked_sections`)."""
+    return checked_sections(read_toml(path), sections, nested)
+
+
+def read_toml(path: str | Path) -> dict:
+    """The parsed TOML file, unchecked."""
     with open(path, "rb") as fh:
-        raw = tomllib.load(fh)
-    return checked_sections(raw, sections, nested)
+        return tomllib.load(fh)
 
 
 def checked_sections(raw: dict, sections: dict, nested=()) -> dict:
@@ -137,10 +141,13 @@ _ACCEPTS = {
     bool: lambda v: isinstance(v, bool),
     str: lambda v: isinstance(v, str),
     list: lambda v: isinstance(v, list),
+    dict: lambda v: isinstance(v, dict),
     (bool, str): lambda v: isinstance(v, bool) or v == "auto",
+    (list, dict): lambda v: isinstance(v, (list, dict)),
 }
 _TYPE_NAMES = {float: "a number", int: "an integer", bool: "true or false", str: "a string",
-               list: "a list", (bool, str): 'true, false or "auto"'}
+               list: "a list", dict: "a table", (bool, str): 'true, false or "auto"',
+               (list, dict): "a list or a table"}
 
 
 def _typed(section: str, key: str, value, kind):

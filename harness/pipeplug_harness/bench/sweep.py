@@ -1,0 +1,270 @@
+"""Benchmark of the sweep engine: cases per second per worker, 2 workers against 1, a million
+single blows, and the time projected for a cluster.
+
+Usage::
+
+    python -m pipeplug_harness.bench.sweep [--million 1000000] [--chunk 50000] [--repeat 2]
+                                           [--slow-cases 40000] [--slow-chunk 2000]
+
+The cases are single blows of model I (the paper's base case, 23 kN for 50 ms, run from rest
+until all is at rest), (tau1, tau2) drawn uniformly over the Fig. 2 plane (tau1 < 0.12 MPa,
+tau2 < 0.08 MPa), in two mixes:
+
+* ``batch``: the sweep as written, run by the core's batch API, one call per chunk (what every
+  single-blow sweep wanting no mode sequence runs): a few microseconds per case, so a chunk
+  must hold many cases (``--chunk``, ~0.1 s of work) for the engine's cost per chunk not to
+  matter;
+* ``per-case``: the same blows with their mode sequences wanted (``[output] modes = true``, as
+  for Fig. 2): one model per case, a few hundred microseconds each, chunks of
+  ``--slow-chunk``.
+
+Measured, in one run:
+
+1. per mix, ``c0``: a chunk's cost per case in this process, its table encoded as Parquet (what
+   a worker does), and the cost per case of writing a chunk's file;
+2. ``s``: the engine's cost per chunk: empty chunks through a one-worker LocalCluster (the
+   scheduler's round trip, moving the result, the client writing its file);
+3. per mix, the sweep on 1 and on 2 workers, alternately ``--repeat`` times (the best of each
+   counts: the machine is shared): cases per second, ``c`` (seconds per case per worker), the
+   speed-up T1 / T2 and the parallel efficiency T1 / (2 T2) (target: speed-up >= 1.6). The
+   batch mix's sweep is the ``--million`` run. Beside each run: the cores that the rest of the
+   machine took meanwhile (busy CPU time of the machine, less that of this process and its
+   workers, plus the time the hypervisor gave elsewhere, over the run's wall time): a 2-worker
+   run is only a fair measure when that is near 0. Also ``w``: the CPU time per case of this
+   process (the client and the LocalCluster's scheduler: receiving each chunk's file, writing
+   it; its part per chunk is then counted in ``s`` too, the pessimistic side) in the 1-worker
+   runs. Here it shares the 2 cores with the workers, which bounds the speed-up by
+   ``2 c / (c + w)``;
+4. the projection for W workers of a cluster (batch mix)::
+
+       T(N, W) = t_start + max((N c + n s) / W, n s + N w),   n = ceil(N / B)
+
+   with ``c``, ``s``, ``w`` as measured here (a cluster's cores may be faster or slower; the
+   client on a machine of its own): the workers share the cases and the chunks' costs; the
+   scheduler and the client take the chunks one at a time (counting all of ``s`` there is the
+   pessimistic side) and the client receives and writes every case. Beyond
+   ``W_max = (c + s / B) / (w + s / B)`` workers they, not the workers, set the pace: larger
+   chunks raise it (the projection is printed for B and 10 B).
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import tempfile
+import time
+from pathlib import Path
+from typing import NamedTuple
+
+import pyarrow as pa
+
+from pipeplug_harness.sweep.cluster import dask_client
+from pipeplug_harness.sweep.engine import run_campaign
+from pipeplug_harness.sweep.file import sweep_spec
+from pipeplug_harness.sweep.store import parquet_bytes
+
+_PLANE = {"tau1": {"dist": "uniform", "low": 0.0, "high": 1.2e5},
+          "tau2": {"dist": "uniform", "low": 0.0, "high": 8.0e4}}
+#: mix -> what the output section adds to the sweep (the mode sequence takes the per-case path)
+MIXES = {"batch": {"modes": False}, "per-case": {"modes": True}}
+
+
+def blow_sweep(cases: int, chunk: int, seed: int = 1, mix: str = "batch"):
+    """The benchmark's sweep: ``cases`` single blows over the Fig. 2 plane."""
+    spec = sweep_spec(f"bench-{mix}-{seed}", {
+        "sweep": {"kind": "blow", "seed": seed, "samples": cases, "chunk": chunk},
+        "random": _PLANE, "soil": {"contact_growth": False},
+        "model": {"elastic": False, "solver": "exact"},
+        "blows": {"amplitude": 23e3, "duration": 0.05}, "output": MIXES[mix]})
+    assert spec.runner == ("batch" if mix == "batch" else "case"), spec.runner
+    return spec
+
+
+class EmptyChunks:
+    """A campaign of ``n`` chunks of no work: what the engine costs per chunk."""
+
+    name = "empty"
+
+    def __init__(self, n: int):
+        self.n_chunks, self.digest = n, f"empty{n}{time.time_ns()}"
+
+    def chunk_cases(self, c: int) -> int:
+        return 0
+
+    def run_chunk(self, c: int) -> pa.Table:
+        return pa.table({"case": pa.array([c], pa.int64())})
+
+
+def in_process(spec, chunks: int, folder: Path) -> tuple[float, float]:
+    """Seconds per case of running and encoding chunks here, and of writing their files."""
+    work = write = 0.0
+    cases = 0
+    for c in range(chunks):
+        start = time.perf_counter()
+        table = spec.run_chunk(c)
+        data = parquet_bytes(table)
+        middle = time.perf_counter()
+        (folder / f"{c}.parquet").write_bytes(data)
+        work, write = work + middle - start, write + time.perf_counter() - middle
+        cases += table.num_rows
+    return work / cases, write / cases
+
+
+def engine_seconds(spec, client, folder: Path) -> float:
+    run = run_campaign(spec, folder, client, fresh=True, progress=False)
+    assert run.complete and not run.failed
+    return run.seconds
+
+
+def _warm(client, folder: Path) -> None:
+    """Each worker loads what both mixes run (compiled code from the disk cache)."""
+    for mix in MIXES:
+        engine_seconds(blow_sweep(400, 100, seed=9, mix=mix), client, folder / f"warm-{mix}")
+
+
+def _cpu_seconds() -> tuple[float, float]:
+    """Busy CPU seconds of the machine (with the hypervisor's steal) and of this process with
+    its children (the workers)."""
+    import psutil
+    m = psutil.cpu_times()
+    me = psutil.Process()
+    ours = 0.0
+    for proc in [me, *me.children(recursive=True)]:
+        try:
+            t = proc.cpu_times()
+            ours += t.user + t.system
+        except psutil.NoSuchProcess:
+            pass
+    return m.user + m.nice + m.system + m.irq + m.softirq + m.steal, ours
+
+
+class Run(NamedTuple):
+    seconds: float        #: wall time
+    others: float         #: cores the rest of the machine took meanwhile
+    client: float         #: CPU seconds of this process (client and scheduler)
+
+
+def one_against_two(specs: dict, repeat: int, folder: Path) -> dict:
+    """mix -> {workers: [:class:`Run` of each run]}: 1 and 2 workers alternately, ``repeat``
+    times (a fresh LocalCluster each time, warmed first)."""
+    times = {mix: {1: [], 2: []} for mix in specs}
+    for _ in range(repeat):
+        for w in (1, 2):
+            with dask_client(workers=w) as client:
+                _warm(client, folder)
+                for mix, spec in specs.items():
+                    (busy, ours), mine = _cpu_seconds(), _own_cpu()
+                    seconds = engine_seconds(spec, client, folder / mix)
+                    (busy2, ours2), mine2 = _cpu_seconds(), _own_cpu()
+                    others = max(0.0, (busy2 - busy) - (ours2 - ours)) / seconds
+                    times[mix][w].append(Run(seconds, others, mine2 - mine))
+    return times
+
+
+def _own_cpu() -> float:
+    t = os.times()
+    return t.user + t.system
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--million", type=int, default=1_000_000,
+                        help="cases of the batch mix (its 1-vs-2 runs)")
+    parser.add_argument("--chunk", type=int, default=50_000, help="cases per chunk (batch)")
+    parser.add_argument("--slow-cases", type=int, default=40_000,
+                        help="cases of the per-case mix")
+    parser.add_argument("--slow-chunk", type=int, default=2000,
+                        help="cases per chunk (per-case)")
+    parser.add_argument("--repeat", type=int, default=2, help="alternate 1- and 2-worker runs")
+    parser.add_argument("--empty", type=int, default=200, help="empty chunks timed for s")
+    args = parser.parse_args(argv)
+    print(f"sweep benchmark, {time.strftime('%Y-%m-%d %H:%M:%S')}, {os.cpu_count()} cores, "
+          f"load average {os.getloadavg()[0]:.2f} (the machine is shared: ratios from one run)",
+          flush=True)
+    specs = {"batch": blow_sweep(args.million, args.chunk),
+             "per-case": blow_sweep(args.slow_cases, args.slow_chunk, mix="per-case")}
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        here = {}
+        for mix, spec in specs.items():
+            spec.run_chunk(spec.n_chunks - 1)                         # warm-up: imports, JIT
+            (tmp / f"here-{mix}").mkdir()
+            here[mix] = in_process(spec, min(spec.n_chunks, 4), tmp / f"here-{mix}")
+            print(f"{mix}: in this process {here[mix][0] * 1e6:.2f} us per case run and "
+                  f"encoded ({1 / here[mix][0]:,.0f} cases/s); writing its file "
+                  f"{here[mix][1] * 1e6:.3f} us per case", flush=True)
+        start = time.perf_counter()
+        with dask_client(workers=1) as client:
+            t_start = time.perf_counter() - start
+            _warm(client, tmp)
+            s = engine_seconds(EmptyChunks(args.empty), client, tmp / "empty") / args.empty
+        print(f"LocalCluster start {t_start:.2f} s; engine cost per chunk s = {s * 1e3:.2f} ms "
+              f"({args.empty} empty chunks, 1 worker)", flush=True)
+        times = one_against_two(specs, args.repeat, tmp)
+    print(f"load average after the runs {os.getloadavg()[0]:.2f}")
+    costs = {mix: _report(mix, specs[mix], times[mix], s) for mix in specs}
+    (c, w), big = costs["batch"], specs["batch"]
+    t_big = min(r.seconds for r in times["batch"][2])
+    print(f"{big.n_cases:,} single blows (batch API) on 2 workers, chunks of {big.chunk:,}: "
+          f"{t_big:.2f} s ({big.n_cases / t_big:,.0f} cases/s); the model below predicts "
+          f"{_projected(big.n_cases, 2, big.chunk, c, s, w, 0.0):.2f} s with its client on "
+          f"cores of its own, {(big.n_cases * (c + w) + big.n_chunks * s) / 2:.2f} s sharing "
+          f"these 2", flush=True)
+    _projection(c, s, w, t_start, big.chunk)
+    return 0
+
+
+def _report(mix: str, spec, times: dict, s: float) -> tuple[float, float]:
+    """Print a mix's rates, speed-up and efficiency; return ``c``, seconds per case per worker,
+    and ``w``, this process's CPU seconds per case (both from the best 1-worker run)."""
+    n = spec.n_cases
+    for workers, runs in times.items():
+        best = min(r.seconds for r in runs)
+        print(f"{mix}, {workers} worker(s): {n:,} cases in {spec.n_chunks} chunks of "
+              f"{spec.chunk:,}: " + ", ".join(f"{r.seconds:.2f} s ({r.others:.2f})" for r in runs)
+              + f" (in brackets: cores taken by the rest of the machine); best "
+              f"{n / best:,.0f} cases/s, {n / best / workers:,.0f} cases/s per worker",
+              flush=True)
+    one, two = (min(times[k], key=lambda r: r.seconds) for k in (1, 2))
+    c, w, speedup = one.seconds / n, one.client / n, one.seconds / two.seconds
+    print(f"{mix}: c = {c * 1e6:.2f} us per case per worker, client and scheduler w = "
+          f"{w * 1e6:.2f} us CPU per case (1 worker); a chunk's work {spec.chunk * c * 1e3:.0f} "
+          f"ms against s = {s * 1e3:.2f} ms; 2 workers against 1: speed-up {speedup:.2f} "
+          f"(target >= 1.6: {'met' if speedup >= 1.6 else 'NOT met'}), parallel efficiency "
+          f"{100 * speedup / 2:.0f} %; the client sharing the 2 cores bounds it at "
+          f"{2 * c / (c + w):.2f}", flush=True)
+    return c, w
+
+
+def _projected(n: int, w: int, b: int, c: float, s: float, write: float,
+               t_start: float) -> float:
+    chunks = math.ceil(n / b)
+    return t_start + max((n * c + chunks * s) / w, chunks * s + n * write)
+
+
+def _projection(c: float, s: float, write: float, t_start: float, b: int) -> None:
+    print(f"projection (batch API): T(N, W) = t_start + max((N c + n s) / W, n s + N w), "
+          f"n = ceil(N/B), with c = {c * 1e6:.2f} us, s = {s * 1e3:.2f} ms, w = "
+          f"{write * 1e6:.3f} us, t_start = {t_start:.1f} s (this machine's):")
+    for chunk in (b, 10 * b):
+        print(f"  B = {chunk:,}: the scheduler and the client set the pace beyond W_max = "
+              f"{w_max(c, s, write, chunk):,.0f} workers")
+        for n in (10 ** 6, 10 ** 8, 10 ** 10):
+            cells = ", ".join(f"W={w}: {_human(_projected(n, w, chunk, c, s, write, t_start))}"
+                              for w in (2, 16, 64, 256, 1024))
+            print(f"    N = {n:.0e}: {cells}")
+
+
+def w_max(c: float, s: float, write: float, b: int) -> float:
+    """The workers beyond which the serial part (chunks through the scheduler and client,
+    cases written) outlasts the workers' share."""
+    return (c + s / b) / (write + s / b)
+
+
+def _human(seconds: float) -> str:
+    return f"{seconds:.0f} s" if seconds < 120 else (f"{seconds / 60:.1f} min" if seconds < 7200
+                                                     else f"{seconds / 3600:.1f} h")
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,82 @@
+"""``pipeplug sweep FILE.toml``: run a sweep on a Dask cluster; Parquet out; optional report."""
+from __future__ import annotations
+
+import argparse
+import importlib
+import sys
+from pathlib import Path
+
+from .file import load_sweep
+
+#: report -> module with ``report(spec, table, figure) -> str`` (see .file.REPORTS)
+_REPORT_MODULES = {"domains": "pipeplug_harness.sweep.domains",
+                   "drivability": "pipeplug_harness.sweep.drivability"}
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("sweep", help="sweep file (.toml)")
+    parser.add_argument("--out", help="output folder, a Parquet dataset (default: "
+                                      "out/sweeps/NAME)")
+    parser.add_argument("--figure", help="the report's PNG (default: out/sweeps/NAME.png)")
+    parser.add_argument("--scheduler", help="address of a running Dask scheduler (e.g. "
+                                            "tcp://10.0.0.5:8786); default: a LocalCluster "
+                                            "on this machine")
+    parser.add_argument("--workers", type=int, help="LocalCluster worker processes (default: "
+                                                    "one per core)")
+    parser.add_argument("--fresh", action="store_true",
+                        help="start afresh (default: resume, skipping finished chunks)")
+    parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+
+
+def main(args: argparse.Namespace) -> int:
+    from .check import check_sweep
+    from .cluster import dask_client
+    from .engine import run_campaign
+    from .runners import described
+    from .store import StoreError, read_folder
+    try:
+        spec = load_sweep(args.sweep)
+        checked = check_sweep(spec)
+    except ValueError as exc:                  # SceneError, or the core's ParameterError
+        print(f"pipeplug sweep: {args.sweep}: {exc}", file=sys.stderr)
+        return 2
+    out = Path(args.out or Path("out/sweeps") / spec.name)
+    print(f"{spec.name}: {spec.n_cases} {spec.kind} cases ({spec.sampling} over "
+          f"{', '.join(d.name for d in spec.dims)}) in {spec.n_chunks} chunks of "
+          f"{spec.chunk}; {checked}; {described(spec)}", flush=True)
+    try:
+        with dask_client(args.scheduler, args.workers) as client:
+            workers = len(client.scheduler_info()["workers"])
+            run = run_campaign(spec, out, client, fresh=args.fresh,
+                               progress=not args.no_progress,
+                               about={"file": str(Path(args.sweep).resolve())})
+    except StoreError as exc:
+        print(f"pipeplug sweep: {exc} (--fresh, or --out)", file=sys.stderr)
+        return 2
+    print(_summary(run, workers, out), flush=True)
+    if run.failed:
+        for c, text in sorted(run.failed.items()):
+            print(f"  chunk {c} failed: {text}", file=sys.stderr)
+        print("pipeplug sweep: rerun to retry the failed chunks", file=sys.stderr)
+        return 1
+    table = read_folder(out)
+    errors = [r for r in table.select(["case", "error"]).to_pylist() if r["error"]]
+    for row in errors[:10]:
+        print(f"  case {row['case']}: {row['error']}", file=sys.stderr)
+    if errors:
+        print(f"  {len(errors)} case(s) failed (the 'error' column)", file=sys.stderr)
+    if spec.report != "none":
+        figure = Path(args.figure or Path("out/sweeps") / f"{spec.name}.png")
+        module = importlib.import_module(_REPORT_MODULES[spec.report])
+        print(module.report(spec, table, figure), flush=True)
+    return 1 if errors else 0
+
+
+def _summary(run, workers: int, out: Path) -> str:
+    text = (f"  {run.written} chunks run now ({run.cases} cases), {run.skipped} already "
+            f"done, {len(run.failed)} failed; {workers} worker(s); results in {out}")
+    if run.cases:
+        per_case = run.seconds * workers / run.cases
+        text += (f"\n  wall time {run.seconds:.1f} s: {run.cases / run.seconds:,.0f} cases/s, "
+                 f"{per_case * 1e3:.3g} ms per case per worker")
+    return text

@@ -1,0 +1,138 @@
+"""The engine of campaigns (sweeps, fuzz runs): chunks of cases on a Dask cluster, collected as
+they finish.
+
+A campaign is any object with ``name``, ``n_chunks``, ``chunk_cases(c)`` (cases in chunk ``c``)
+and ``run_chunk(c)``, a pure function of the chunk's number (cases generated where they run,
+from the campaign and their indices: only the campaign, chunk numbers and results travel).
+:func:`map_chunks` runs chunks and hands each result to a collector
+in this process (a fuzz run's summary); :func:`run_campaign` collects into an output folder:
+``run_chunk`` gives a ``pyarrow.Table``, the campaign has a ``digest``, and the engine submits
+the chunks not yet in the folder; each task encodes its table as a Parquet file's bytes and
+the client writes them as they arrive (:class:`~.store.ChunkStore`: whole or not at all), so:
+
+* a rerun skips the finished chunks;
+* a worker that dies loses nothing: Dask runs its unfinished chunks again on another worker,
+  and a chunk is written once, when its result reaches the client (the workers need no shared
+  file system);
+* the output does not depend on the number of workers nor on the order chunks finish in.
+
+A chunk that raises is reported and left out; a rerun tries it again.
+"""
+from __future__ import annotations
+
+import time
+import uuid
+from dataclasses import dataclass, field
+
+from .store import ChunkStore, parquet_bytes
+
+__all__ = ["map_chunks", "run_campaign", "ChunkRun", "CampaignRun"]
+
+
+@dataclass
+class ChunkRun:
+    """What a run of chunks did."""
+
+    chunks: int                     #: chunks of the campaign
+    skipped: int = 0                #: already done (not run)
+    written: int = 0                #: chunks run and collected now
+    cases: int = 0                  #: cases run now
+    failed: dict = field(default_factory=dict)    #: chunk -> error text
+    seconds: float = 0.0            #: wall time (submission to the last result collected)
+
+    @property
+    def complete(self) -> bool:
+        return self.skipped + self.written == self.chunks
+
+
+#: the record of :func:`run_campaign`
+CampaignRun = ChunkRun
+
+
+def _run(campaign, c: int):
+    return campaign.run_chunk(c)
+
+
+def _run_encoded(campaign, c: int) -> bytes:
+    return parquet_bytes(campaign.run_chunk(c))
+
+
+def map_chunks(campaign, chunks, client, collect, *, progress: bool = True,
+               on_chunk=None, skipped: int = 0, task=_run) -> ChunkRun:
+    """Run ``campaign.run_chunk(c)`` for each of ``chunks`` on ``client``'s cluster and hand
+    each result to ``collect(c, result)`` in this process, in the order they finish.
+
+    Parameters
+    ----------
+    campaign : object
+        ``name``, ``n_chunks``, ``chunk_cases(c)``, ``run_chunk(c)`` (see the module
+        docstring); sent with every task, so it should be small (no case data).
+    chunks : sequence of int
+        The chunks to run.
+    client : distributed.Client
+    collect : callable
+        ``collect(c, result)``: e.g. write the chunk, or add it to a summary.
+    progress : bool
+        Show a progress bar (tqdm, on standard error) counting cases.
+    on_chunk : callable, optional
+        ``on_chunk(c, run)`` after chunk ``c`` is collected.
+    skipped : int
+        Chunks done before (counted in the bar and the record).
+    task : callable
+        ``task(campaign, c)``, what a worker runs for chunk ``c`` (default: ``run_chunk``).
+    """
+    from distributed import as_completed
+    from tqdm import tqdm
+    run = ChunkRun(campaign.n_chunks, skipped=skipped)
+    todo = list(chunks)
+    total = sum(campaign.chunk_cases(c) for c in range(campaign.n_chunks))
+    bar = tqdm(total=total, initial=total - sum(campaign.chunk_cases(c) for c in todo),
+               unit="case", desc=campaign.name, disable=not progress, mininterval=1.0)
+    start = time.perf_counter()
+    if todo:
+        # Each task carries the campaign (a few kB) rather than sharing one scattered copy:
+        # a task then needs nothing that a dead worker might have held.
+        token = uuid.uuid4().hex[:8]
+        futures = {client.submit(task, campaign, c, key=f"{campaign.name}-{token}-{c}",
+                                 retries=0): c for c in todo}
+        for future in as_completed(futures):
+            c = futures.pop(future)
+            if future.status == "error":
+                run.failed[c] = repr(future.exception())
+            else:
+                collect(c, future.result())
+                run.written += 1
+                run.cases += campaign.chunk_cases(c)
+                bar.update(campaign.chunk_cases(c))
+                if on_chunk is not None:
+                    on_chunk(c, run)
+            future.release()
+    bar.close()
+    run.seconds = time.perf_counter() - start
+    return run
+
+
+def run_campaign(campaign, out, client, *, fresh: bool = False, progress: bool = True,
+                 on_chunk=None, about: dict | None = None) -> ChunkRun:
+    """Run the campaign's chunks missing from the folder ``out`` on ``client``'s cluster,
+    writing each as it arrives.
+
+    Parameters
+    ----------
+    campaign : object
+        See the module docstring (also ``digest``: what the folder must hold).
+    out : path
+        The output folder (:class:`~.store.ChunkStore`).
+    client : distributed.Client
+    fresh : bool
+        Start afresh: drop what the folder holds.
+    progress, on_chunk
+        As for :func:`map_chunks`.
+    about : dict, optional
+        Written into the folder's manifest (e.g. the campaign's file).
+    """
+    store = ChunkStore(out, campaign.digest, campaign.n_chunks, fresh=fresh, about=about)
+    todo = [c for c in range(campaign.n_chunks) if not store.done(c)]
+    return map_chunks(campaign, todo, client, store.write, progress=progress,
+                      on_chunk=on_chunk, skipped=campaign.n_chunks - len(todo),
+                      task=_run_encoded)

@@ -1,0 +1,148 @@
+"""Sweeps on a Dask LocalCluster: the same results for any number of workers, resuming, a worker
+killed mid-run, the command line. One cluster of two worker processes serves the module."""
+import os
+import signal
+
+import pyarrow as pa
+import pyarrow.parquet as pq
+import pytest
+
+from pipeplug_harness.sweep.cluster import dask_client
+from pipeplug_harness.sweep.engine import run_campaign
+from pipeplug_harness.sweep.file import load_sweep, sweep_spec
+from pipeplug_harness.sweep.store import StoreError, read_folder
+
+# Short rigid drives (~3 ms each) over lognormal soil: some reach the target, some refuse.
+DRIVES = """
+[sweep]
+kind = "drive"
+seed = 11
+samples = {samples}
+chunk = {chunk}
+report = "drivability"
+[random]
+tau1 = {{dist = "lognormal", median = 8.0e4, sigma = 0.2}}
+tau2 = {{dist = "lognormal", median = 2.0e4, sigma = 0.5}}
+[pipe]
+L1 = 2.0
+[plug]
+L2 = 2.0
+[blows]
+amplitude = 23000.0
+duration = 0.01
+period = 0.2
+[model]
+elastic = false
+[drive]
+target = 1.0
+step = 0.01
+"""
+
+
+@pytest.fixture(scope="module")
+def client():
+    with dask_client(workers=2) as c:
+        yield c
+
+
+def _sweep(tmp_path, samples=60, chunk=6, name="drives"):
+    path = tmp_path / f"{name}.toml"
+    path.write_text(DRIVES.format(samples=samples, chunk=chunk))
+    return path, load_sweep(path)
+
+
+def _reference(spec) -> pa.Table:
+    """The sweep run chunk by chunk in this process."""
+    return pa.concat_tables([spec.run_chunk(c) for c in range(spec.n_chunks)])
+
+
+def test_same_results_in_process_on_two_workers_and_on_one(client, tmp_path, pipeplug_cli):
+    path, spec = _sweep(tmp_path)
+    expected = _reference(spec)
+    outcomes = set(expected.column("outcome").to_pylist())
+    assert {"target", "set"} <= outcomes and not any(expected.column("error").to_pylist())
+    run = run_campaign(spec, tmp_path / "two", client, progress=False)
+    assert run.complete and run.written == spec.n_chunks and not run.failed
+    assert read_folder(tmp_path / "two").equals(expected)
+    proc = pipeplug_cli("sweep", path, "--workers", "1", "--out", tmp_path / "one",
+                        "--figure", tmp_path / "one.png", "--no-progress")
+    assert read_folder(tmp_path / "one").equals(expected)
+    assert "1 worker(s)" in proc.stdout and "P(refusal) = " in proc.stdout
+    assert (tmp_path / "one.png").stat().st_size > 10_000
+
+
+def test_a_batch_sweep_on_two_workers_is_the_sweep_run_here(client, tmp_path):
+    """Single blows on the core's batch API (one call per chunk) through the engine."""
+    spec = sweep_spec("blows", {
+        "sweep": {"samples": 3000, "seed": 4, "chunk": 500}, "model": {"elastic": False},
+        "random": {"tau1": {"dist": "uniform", "low": 1e3, "high": 1.2e5},
+                   "tau2": {"dist": "uniform", "low": 0.0, "high": 8e4}}})
+    assert spec.runner == "batch"
+    run = run_campaign(spec, tmp_path / "out", client, progress=False)
+    assert run.complete and run.written == 6 and not run.failed
+    assert read_folder(tmp_path / "out").equals(_reference(spec))
+
+
+def test_a_rerun_resumes_and_runs_only_the_missing_chunks(client, tmp_path):
+    _, spec = _sweep(tmp_path, samples=24, chunk=4)
+    out = tmp_path / "out"
+    first = run_campaign(spec, out, client, progress=False)
+    assert first.written == 6
+    parts = sorted(out.glob("part-*.parquet"))
+    parts[1].unlink()
+    parts[4].unlink()
+    again = run_campaign(spec, out, client, progress=False)
+    assert (again.skipped, again.written, again.cases) == (4, 2, 8)
+    assert read_folder(out).equals(_reference(spec))
+    _, other = _sweep(tmp_path, samples=25, chunk=4, name="other")
+    with pytest.raises(StoreError, match="another campaign"):
+        run_campaign(other, out, client, progress=False)
+    assert run_campaign(other, out, client, progress=False, fresh=True).written == 7
+
+
+def test_a_killed_worker_loses_nothing(client, tmp_path):
+    """After the first chunk is written, the worker busy with a chunk is killed (SIGKILL);
+    Dask runs its chunks again elsewhere: every case is in the output exactly once, with the
+    same values as a run without the kill."""
+    _, spec = _sweep(tmp_path, samples=400, chunk=10)
+    pids = client.run(os.getpid)
+    killed = {}
+
+    def kill_one(c, run):
+        if killed:
+            return
+        busy = [w for w, keys in client.processing().items() if keys]
+        assert busy, "no chunk in flight to lose"
+        killed.update(worker=busy[0], pid=pids[busy[0]], written=run.written)
+        os.kill(pids[busy[0]], signal.SIGKILL)
+
+    run = run_campaign(spec, tmp_path / "out", client, progress=False, on_chunk=kill_one)
+    assert killed and killed["written"] < spec.n_chunks
+    assert run.complete and not run.failed
+    table = pq.read_table(tmp_path / "out")                 # the raw files, as any reader sees them
+    cases = sorted(table.column("case").to_pylist())
+    assert cases == list(range(spec.n_cases))               # each case exactly once
+    assert read_folder(tmp_path / "out").equals(_reference(spec))
+    assert killed["pid"] not in client.run(os.getpid).values()
+
+
+def test_a_bad_file_is_refused_before_any_work(tmp_path, pipeplug_cli):
+    path = tmp_path / "bad.toml"
+    path.write_text(DRIVES.format(samples=10, chunk=5).replace("= 2.0\n", "= 0.5\n"))
+    proc = pipeplug_cli("sweep", path, check=False)
+    assert proc.returncode == 2
+    assert "target = 1.0" in proc.stderr and "<= L1" in proc.stderr
+
+
+def test_fuzz_runs_on_the_engine(client, tmp_path):
+    """``pipeplug fuzz`` on the cluster: the same summary as in this process (every check's
+    cases, failures and worst value; which case was worst first may differ on ties)."""
+    from pipeplug_harness.fuzz.cases import Plan
+    from pipeplug_harness.fuzz.engine import fuzz
+    from pipeplug_harness.fuzz.run import Setup
+    plan, setup = Plan(reference=10, fmu=0, fd=0), Setup(("python",))
+    here, _ = fuzz(5, range(40, 160), plan, setup, progress=None)
+    there, _ = fuzz(5, range(40, 160), plan, setup, progress=None, client=client)
+    assert there.cases == here.cases == 120 and there.failures == here.failures == 0
+    assert {k: v[:3] for k, v in there.rows.items()} == {k: v[:3] for k, v in here.rows.items()}
+    assert there.families == here.families and there.models == here.models

@@ -1,0 +1,96 @@
+"""Sweep files: the closed key tables, the case values (grid order, random draws independent of
+the chunking), and the core's check before any work is submitted."""
+import numpy as np
+import pytest
+from scipy import stats
+
+from pipeplug_harness.scenes.file import SceneError
+from pipeplug_harness.sweep.check import check_sweep
+from pipeplug_harness.sweep.file import sweep_spec
+from pipeplug_harness.sweep.sample import uniforms, varied_values
+
+
+def _spec(**raw):
+    return sweep_spec("t", raw)
+
+
+@pytest.mark.parametrize("raw, words", [
+    ({"grid": {"tau1": [1.0]}, "soil": {"tau3": 1.0}}, ["tau3", "tau1, contact_growth"]),
+    ({"grid": {"tau1": [1.0]}, "sweep": {"kind": "walk"}}, ["walk", "blow, drive"]),
+    ({"grid": {"tau1": [1.0]}, "sweep": {"report": "all"}}, ["all", "none, domains"]),
+    ({"grid": {"tau1": [1.0]}, "sweep": {"seeds": 1}}, ["seeds", "kind, seed, samples"]),
+    ({"grid": {"count": [1.0]}}, ["count", "L1"]),             # not a number key: not variable
+    ({"grid": {"tau1": {"start": 0, "stop": 1, "n": 3}}}, ["start, stop, num, scale"]),
+    ({"grid": {"tau1": {"start": 0, "stop": 1, "num": 3, "scale": "exp"}}}, ["linear, log"]),
+    ({"random": {"tau1": {"dist": "cauchy"}}, "sweep": {"samples": 3}},
+     ["cauchy", "uniform, normal, lognormal, truncnormal"]),
+    ({"random": {"tau1": {"dist": "normal", "mean": 1.0}}, "sweep": {"samples": 3}},
+     ["mean, sd", "missing: ['sd']"]),
+    ({"random": {"tau1": {"dist": "normal", "mean": 1.0, "sd": 0.0}}, "sweep": {"samples": 3}},
+     ["sd > 0"]),
+    ({"random": {"tau1": {"dist": "uniform", "low": 1.0, "high": 2.0}}}, ["samples"]),
+    ({"grid": {"tau1": [1.0]}, "random": {"tau2": {"dist": "uniform", "low": 1.0, "high": 2.0}}},
+     ["exactly one of [grid] or [random]"]),
+    ({"grid": {"target": [1.0]}}, ["target", "amplitude"]),    # [drive] keys only for drives
+])
+def test_unknown_keys_and_values_name_the_allowed_ones(raw, words):
+    with pytest.raises(SceneError) as err:
+        _spec(**raw)
+    for word in words:
+        assert word in str(err.value)
+
+
+def test_grid_cases_in_c_order_first_name_slowest():
+    spec = _spec(grid={"tau2": [1.0, 2.0], "tau1": {"start": 0.0, "stop": 20.0, "num": 3}},
+                 sweep={"chunk": 4})
+    assert (spec.n_cases, spec.n_chunks, [d.name for d in spec.dims]) == (6, 2, ["tau2", "tau1"])
+    v = varied_values(spec.dims, "grid", 0, 0, 6)
+    assert v["tau2"].tolist() == [1.0, 1.0, 1.0, 2.0, 2.0, 2.0]
+    assert v["tau1"].tolist() == [0.0, 10.0, 20.0, 0.0, 10.0, 20.0]
+    log = _spec(grid={"L1": {"start": 1.0, "stop": 100.0, "num": 3, "scale": "log"}})
+    assert log.dims[0].values.tolist() == pytest.approx([1.0, 10.0, 100.0], rel=1e-15)
+
+
+def test_random_values_depend_on_the_case_index_only():
+    """Any range of cases draws what drawing all cases gives there; another seed differs."""
+    whole = uniforms(7, 0, 1000, 6)
+    for start, stop in ((0, 1), (3, 17), (999, 1000), (250, 750)):
+        assert np.array_equal(uniforms(7, start, stop, 6), whole[start:stop])
+    assert 0.0 < whole.min() and whole.max() < 1.0
+    assert not np.array_equal(uniforms(8, 0, 1000, 6), whole)
+
+
+@pytest.mark.parametrize("dist, frozen", [
+    ({"dist": "normal", "mean": 2e4, "sd": 3e3}, stats.norm(2e4, 3e3)),
+    ({"dist": "lognormal", "median": 7e4, "sigma": 0.2}, stats.lognorm(0.2, scale=7e4)),
+    ({"dist": "uniform", "low": 1.0, "high": 3.0}, stats.uniform(1.0, 2.0)),
+    ({"dist": "truncnormal", "mean": 0.0, "sd": 1.0, "low": -0.5, "high": 2.0},
+     stats.truncnorm(-0.5, 2.0)),
+])
+def test_each_distribution_is_its_inverse_cdf_of_the_uniforms(dist, frozen):
+    """The values are scipy.stats' quantile functions at the case's uniform numbers, and a
+    large sample passes the Kolmogorov-Smirnov test against the distribution."""
+    spec = _spec(random={"tau2": dist}, sweep={"samples": 20000, "seed": 3})
+    got = varied_values(spec.dims, "random", 3, 0, 20000)["tau2"]
+    u = uniforms(3, 0, 20000, 1)[:, 0]
+    np.testing.assert_allclose(got, frozen.ppf(u), rtol=1e-9, atol=1e-12)
+    assert stats.kstest(got, frozen.cdf).pvalue > 1e-3
+
+
+def test_the_core_checks_the_corners_before_any_work():
+    # L2 <= L1 fails only at the corner L1 = 1, L2 = 1.5 (a linear rule between parameters)
+    spec = _spec(grid={"L1": [1.0, 2.0], "L2": [0.5, 1.5]})
+    with pytest.raises(SceneError, match=r"L1 = 1.0, L2 = 1.5: L2 = 1.5 is not allowed"):
+        check_sweep(spec)
+    # a normal tau1 around 0 draws negative values: named with the allowed range
+    spec = _spec(random={"tau1": {"dist": "normal", "mean": 0.0, "sd": 1.0}},
+                 sweep={"samples": 5000})
+    with pytest.raises(SceneError, match=r"tau1 = -\d.*allowed: finite, >= 0"):
+        check_sweep(spec)
+    # drives: the target beyond the pipe
+    spec = _spec(sweep={"kind": "drive"}, grid={"target": [0.5, 1.5]},
+                 model={"elastic": False})
+    with pytest.raises(SceneError, match=r"target = 1.5.*<= L1"):
+        check_sweep(spec)
+    ok = _spec(grid={"tau1": {"start": 0.0, "stop": 1e5, "num": 2000}})
+    assert "corners" in check_sweep(ok)
