@@ -18,12 +18,16 @@ tau2 < 0.08 MPa), in two mixes:
   for Fig. 2): one model per case, a few hundred microseconds each, chunks of
   ``--slow-chunk``.
 
+The workers of the LocalCluster see the output folder, so they write the chunk files; the batch
+mix is also run as ``batch, client writes`` (each chunk's bytes sent to the client, which
+writes them: what a cluster whose workers do not see the folder does).
+
 Measured, in one run:
 
 1. per mix, ``c0``: a chunk's cost per case in this process, its table encoded as Parquet (what
    a worker does), and the cost per case of writing a chunk's file;
 2. ``s``: the engine's cost per chunk: empty chunks through a one-worker LocalCluster (the
-   scheduler's round trip, moving the result, the client writing its file);
+   scheduler's round trip, the worker writing the file, the acknowledgement);
 3. per mix, the sweep on 1 and on 2 workers, alternately ``--repeat`` times (the best of each
    counts: the machine is shared): cases per second, ``c`` (seconds per case per worker), the
    speed-up T1 / T2 and the parallel efficiency T1 / (2 T2) (target: speed-up >= 1.6). The
@@ -31,9 +35,9 @@ Measured, in one run:
    machine took meanwhile (busy CPU time of the machine, less that of this process and its
    workers, plus the time the hypervisor gave elsewhere, over the run's wall time): a 2-worker
    run is only a fair measure when that is near 0. Also ``w``: the CPU time per case of this
-   process (the client and the LocalCluster's scheduler: receiving each chunk's file, writing
-   it; its part per chunk is then counted in ``s`` too, the pessimistic side) in the 1-worker
-   runs. Here it shares the 2 cores with the workers, which bounds the speed-up by
+   process (the client and the LocalCluster's scheduler: each chunk's acknowledgement, or its
+   file to receive and write; its part per chunk is then counted in ``s`` too, the pessimistic
+   side) in the 1-worker runs. Here it shares the 2 cores with the workers, which bounds the speed-up by
    ``2 c / (c + w)``;
 4. the projection for W workers of a cluster (batch mix)::
 
@@ -42,7 +46,7 @@ Measured, in one run:
    with ``c``, ``s``, ``w`` as measured here (a cluster's cores may be faster or slower; the
    client on a machine of its own): the workers share the cases and the chunks' costs; the
    scheduler and the client take the chunks one at a time (counting all of ``s`` there is the
-   pessimistic side) and the client receives and writes every case. Beyond
+   pessimistic side) and the client's work per case (``w``). Beyond
    ``W_max = (c + s / B) / (w + s / B)`` workers they, not the workers, set the pace: larger
    chunks raise it (the projection is printed for B and 10 B).
 """
@@ -67,6 +71,8 @@ _PLANE = {"tau1": {"dist": "uniform", "low": 0.0, "high": 1.2e5},
           "tau2": {"dist": "uniform", "low": 0.0, "high": 8.0e4}}
 #: mix -> what the output section adds to the sweep (the mode sequence takes the per-case path)
 MIXES = {"batch": {"modes": False}, "per-case": {"modes": True}}
+#: the batch mix with every chunk's bytes sent to the client (which writes them)
+CLIENT_WRITES = "batch, client writes"
 
 
 def blow_sweep(cases: int, chunk: int, seed: int = 1, mix: str = "batch"):
@@ -110,9 +116,11 @@ def in_process(spec, chunks: int, folder: Path) -> tuple[float, float]:
     return work / cases, write / cases
 
 
-def engine_seconds(spec, client, folder: Path) -> float:
-    run = run_campaign(spec, folder, client, fresh=True, progress=False)
+def engine_seconds(spec, client, folder: Path, workers_write: bool = True) -> float:
+    run = run_campaign(spec, folder, client, fresh=True, progress=False,
+                       workers_write=workers_write)
     assert run.complete and not run.failed
+    assert run.by_workers == (run.written if workers_write else 0), run
     return run.seconds
 
 
@@ -154,7 +162,8 @@ def one_against_two(specs: dict, repeat: int, folder: Path) -> dict:
                 _warm(client, folder)
                 for mix, spec in specs.items():
                     (busy, ours), mine = _cpu_seconds(), _own_cpu()
-                    seconds = engine_seconds(spec, client, folder / mix)
+                    seconds = engine_seconds(spec, client, folder / mix.replace(" ", "_"),
+                                             workers_write=mix != CLIENT_WRITES)
                     (busy2, ours2), mine2 = _cpu_seconds(), _own_cpu()
                     others = max(0.0, (busy2 - busy) - (ours2 - ours)) / seconds
                     times[mix][w].append(Run(seconds, others, mine2 - mine))
@@ -183,6 +192,7 @@ def main(argv: list[str] | None = None) -> int:
           flush=True)
     specs = {"batch": blow_sweep(args.million, args.chunk),
              "per-case": blow_sweep(args.slow_cases, args.slow_chunk, mix="per-case")}
+    runs = {**specs, CLIENT_WRITES: specs["batch"]}
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
         here = {}
@@ -200,9 +210,9 @@ def main(argv: list[str] | None = None) -> int:
             s = engine_seconds(EmptyChunks(args.empty), client, tmp / "empty") / args.empty
         print(f"LocalCluster start {t_start:.2f} s; engine cost per chunk s = {s * 1e3:.2f} ms "
               f"({args.empty} empty chunks, 1 worker)", flush=True)
-        times = one_against_two(specs, args.repeat, tmp)
+        times = one_against_two(runs, args.repeat, tmp)
     print(f"load average after the runs {os.getloadavg()[0]:.2f}")
-    costs = {mix: _report(mix, specs[mix], times[mix], s) for mix in specs}
+    costs = {mix: _report(mix, runs[mix], times[mix], s) for mix in runs}
     (c, w), big = costs["batch"], specs["batch"]
     t_big = min(r.seconds for r in times["batch"][2])
     print(f"{big.n_cases:,} single blows (batch API) on 2 workers, chunks of {big.chunk:,}: "

@@ -73,8 +73,9 @@ def main(args: argparse.Namespace) -> int:
 
 
 def _summary(run, workers: int, out: Path) -> str:
-    text = (f"  {run.written} chunks run now ({run.cases} cases), {run.skipped} already "
-            f"done, {len(run.failed)} failed; {workers} worker(s); results in {out}")
+    text = (f"  {run.written} chunks run now ({run.cases} cases; {run.by_workers} files "
+            f"written by the workers, {run.written - run.by_workers} here), {run.skipped} "
+            f"already done, {len(run.failed)} failed; {workers} worker(s); results in {out}")
     if run.cases:
         per_case = run.seconds * workers / run.cases
         text += (f"\n  wall time {run.seconds:.1f} s: {run.cases / run.seconds:,.0f} cases/s, "

@@ -7,14 +7,17 @@ from the campaign and their indices: only the campaign, chunk numbers and result
 :func:`map_chunks` runs chunks and hands each result to a collector
 in this process (a fuzz run's summary); :func:`run_campaign` collects into an output folder:
 ``run_chunk`` gives a ``pyarrow.Table``, the campaign has a ``digest``, and the engine submits
-the chunks not yet in the folder; each task encodes its table as a Parquet file's bytes and
-the client writes them as they arrive (:class:`~.store.ChunkStore`: whole or not at all), so:
+the chunks not yet in the folder (:class:`~.store.ChunkStore`: each file whole or not at all).
+A worker that sees the folder writes its chunk's file itself and sends back only the chunk's
+number and row count (a LocalCluster's workers always do); one that does not (a remote
+worker without the same file system) sends the file's bytes and the client writes them. So:
 
 * a rerun skips the finished chunks;
-* a worker that dies loses nothing: Dask runs its unfinished chunks again on another worker,
-  and a chunk is written once, when its result reaches the client (the workers need no shared
-  file system);
-* the output does not depend on the number of workers nor on the order chunks finish in.
+* a worker that dies loses nothing: Dask runs its unfinished chunks again on another worker;
+  its half-written file has a temporary name, and a chunk run twice gives the same file under
+  the same name;
+* the output does not depend on the number of workers, on which of them see the folder, nor on
+  the order chunks finish in.
 
 A chunk that raises is reported and left out; a rerun tries it again.
 """
@@ -23,8 +26,9 @@ from __future__ import annotations
 import time
 import uuid
 from dataclasses import dataclass, field
+from functools import partial
 
-from .store import ChunkStore, parquet_bytes
+from .store import ChunkFiles, ChunkStore, Written, parquet_bytes
 
 __all__ = ["map_chunks", "run_campaign", "ChunkRun", "CampaignRun"]
 
@@ -36,6 +40,7 @@ class ChunkRun:
     chunks: int                     #: chunks of the campaign
     skipped: int = 0                #: already done (not run)
     written: int = 0                #: chunks run and collected now
+    by_workers: int = 0             #: of these, files the workers wrote themselves
     cases: int = 0                  #: cases run now
     failed: dict = field(default_factory=dict)    #: chunk -> error text
     seconds: float = 0.0            #: wall time (submission to the last result collected)
@@ -53,8 +58,13 @@ def _run(campaign, c: int):
     return campaign.run_chunk(c)
 
 
-def _run_encoded(campaign, c: int) -> bytes:
-    return parquet_bytes(campaign.run_chunk(c))
+def _run_stored(campaign, c: int, files: ChunkFiles | None) -> Written | bytes:
+    """On a worker: run chunk ``c``; write its file if this process sees the folder (only the
+    acknowledgement travels), else return the file's bytes for the client to write."""
+    table = campaign.run_chunk(c)
+    if files is not None and files.visible():
+        return files.write_table(c, table)
+    return parquet_bytes(table)
 
 
 def map_chunks(campaign, chunks, client, collect, *, progress: bool = True,
@@ -113,7 +123,8 @@ def map_chunks(campaign, chunks, client, collect, *, progress: bool = True,
 
 
 def run_campaign(campaign, out, client, *, fresh: bool = False, progress: bool = True,
-                 on_chunk=None, about: dict | None = None) -> ChunkRun:
+                 on_chunk=None, about: dict | None = None,
+                 workers_write: bool = True) -> ChunkRun:
     """Run the campaign's chunks missing from the folder ``out`` on ``client``'s cluster,
     writing each as it arrives.
 
@@ -130,9 +141,27 @@ def run_campaign(campaign, out, client, *, fresh: bool = False, progress: bool =
         As for :func:`map_chunks`.
     about : dict, optional
         Written into the folder's manifest (e.g. the campaign's file).
+    workers_write : bool
+        Let the workers that see the folder write their chunks' files (False: every chunk's
+        bytes come to the client, as from workers that do not see it).
     """
     store = ChunkStore(out, campaign.digest, campaign.n_chunks, fresh=fresh, about=about)
     todo = [c for c in range(campaign.n_chunks) if not store.done(c)]
-    return map_chunks(campaign, todo, client, store.write, progress=progress,
-                      on_chunk=on_chunk, skipped=campaign.n_chunks - len(todo),
-                      task=_run_encoded)
+    # Whether a worker sees the folder is found out by each task, not assumed nor asked of the
+    # user: it reads this run's token in the manifest (cheap, once per chunk), which a worker on
+    # another machine with a same-named folder cannot; workers joining mid-run are covered, and
+    # a worker that cannot see the folder only costs the client the writing, as before.
+    by_workers = []
+
+    def collect(c: int, result: Written | bytes) -> None:
+        if isinstance(result, Written):
+            assert result.chunk == c and store.done(c), (c, result)
+            by_workers.append(c)
+        else:
+            store.write(c, result)
+
+    run = map_chunks(campaign, todo, client, collect, progress=progress, on_chunk=on_chunk,
+                     skipped=campaign.n_chunks - len(todo),
+                     task=partial(_run_stored, files=store.files if workers_write else None))
+    run.by_workers = len(by_workers)
+    return run

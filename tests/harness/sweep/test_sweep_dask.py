@@ -1,5 +1,6 @@
-"""Sweeps on a Dask LocalCluster: the same results for any number of workers, resuming, a worker
-killed mid-run, the command line. One cluster of two worker processes serves the module."""
+"""Sweeps on a Dask LocalCluster: the same results for any number of workers and whoever writes
+the files, resuming, a worker killed mid-run, the command line. One cluster of two worker
+processes serves the module; its workers see the output folder, so they write the files."""
 import os
 import signal
 
@@ -62,12 +63,13 @@ def test_same_results_in_process_on_two_workers_and_on_one(client, tmp_path, pip
     outcomes = set(expected.column("outcome").to_pylist())
     assert {"target", "set"} <= outcomes and not any(expected.column("error").to_pylist())
     run = run_campaign(spec, tmp_path / "two", client, progress=False)
-    assert run.complete and run.written == spec.n_chunks and not run.failed
+    assert run.complete and run.written == run.by_workers == spec.n_chunks and not run.failed
     assert read_folder(tmp_path / "two").equals(expected)
     proc = pipeplug_cli("sweep", path, "--workers", "1", "--out", tmp_path / "one",
                         "--figure", tmp_path / "one.png", "--no-progress")
     assert read_folder(tmp_path / "one").equals(expected)
     assert "1 worker(s)" in proc.stdout and "P(refusal) = " in proc.stdout
+    assert f"{spec.n_chunks} files written by the workers, 0 here" in proc.stdout
     assert (tmp_path / "one.png").stat().st_size > 10_000
 
 
@@ -79,8 +81,13 @@ def test_a_batch_sweep_on_two_workers_is_the_sweep_run_here(client, tmp_path):
                    "tau2": {"dist": "uniform", "low": 0.0, "high": 8e4}}})
     assert spec.runner == "batch"
     run = run_campaign(spec, tmp_path / "out", client, progress=False)
-    assert run.complete and run.written == 6 and not run.failed
+    assert run.complete and run.written == run.by_workers == 6 and not run.failed
     assert read_folder(tmp_path / "out").equals(_reference(spec))
+    sent = run_campaign(spec, tmp_path / "sent", client, progress=False, workers_write=False)
+    assert sent.complete and sent.written == 6 and sent.by_workers == 0
+    for mine, theirs in zip(sorted((tmp_path / "sent").glob("part-*")),
+                            sorted((tmp_path / "out").glob("part-*")), strict=True):
+        assert mine.read_bytes() == theirs.read_bytes()         # the same files, byte for byte
 
 
 def test_a_rerun_resumes_and_runs_only_the_missing_chunks(client, tmp_path):
@@ -100,10 +107,12 @@ def test_a_rerun_resumes_and_runs_only_the_missing_chunks(client, tmp_path):
     assert run_campaign(other, out, client, progress=False, fresh=True).written == 7
 
 
-def test_a_killed_worker_loses_nothing(client, tmp_path):
-    """After the first chunk is written, the worker busy with a chunk is killed (SIGKILL);
+@pytest.mark.parametrize("workers_write", [True, False])
+def test_a_killed_worker_loses_nothing(client, tmp_path, workers_write):
+    """After the first chunk is collected, the worker busy with a chunk is killed (SIGKILL);
     Dask runs its chunks again elsewhere: every case is in the output exactly once, with the
-    same values as a run without the kill."""
+    same values as a run without the kill, whether the workers write the files or the client
+    does."""
     _, spec = _sweep(tmp_path, samples=400, chunk=10)
     pids = client.run(os.getpid)
     killed = {}
@@ -116,9 +125,11 @@ def test_a_killed_worker_loses_nothing(client, tmp_path):
         killed.update(worker=busy[0], pid=pids[busy[0]], written=run.written)
         os.kill(pids[busy[0]], signal.SIGKILL)
 
-    run = run_campaign(spec, tmp_path / "out", client, progress=False, on_chunk=kill_one)
+    run = run_campaign(spec, tmp_path / "out", client, progress=False, on_chunk=kill_one,
+                       workers_write=workers_write)
     assert killed and killed["written"] < spec.n_chunks
     assert run.complete and not run.failed
+    assert run.by_workers == (spec.n_chunks if workers_write else 0)
     table = pq.read_table(tmp_path / "out")                 # the raw files, as any reader sees them
     cases = sorted(table.column("case").to_pylist())
     assert cases == list(range(spec.n_cases))               # each case exactly once

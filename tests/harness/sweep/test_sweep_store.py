@@ -1,0 +1,74 @@
+"""The output folder without a cluster: a worker writes its chunk only where it sees the client's
+folder (this run's token), the file is the bytes the client would write, and a writer killed
+mid-write leaves no chunk."""
+import subprocess
+import sys
+from pathlib import Path
+
+import pyarrow as pa
+import pyarrow.parquet as pq
+
+from pipeplug_harness.sweep.engine import _run_stored
+from pipeplug_harness.sweep.store import ChunkFiles, ChunkStore, Written, parquet_bytes
+
+
+class Tiny:
+    """A campaign of 3 chunks of 4 rows (a text column too)."""
+
+    name, n_chunks, digest = "tiny", 3, "tiny-1"
+
+    def chunk_cases(self, c):
+        return 4
+
+    def run_chunk(self, c):
+        cases = list(range(4 * c, 4 * c + 4))
+        return pa.table({"case": pa.array(cases, pa.int64()),
+                         "x": [k / 7 for k in cases], "error": [""] * 4})
+
+
+def test_a_worker_that_sees_the_folder_writes_the_clients_bytes(tmp_path):
+    store = ChunkStore(tmp_path / "out", Tiny.digest, Tiny.n_chunks)
+    ack = _run_stored(Tiny(), 1, store.files)
+    assert ack == Written(1, 4) and store.done(1) and not store.done(0)
+    assert store.path(1).read_bytes() == parquet_bytes(Tiny().run_chunk(1))
+    assert sorted(p.name for p in store.folder.iterdir()) == ["_campaign.json",
+                                                              "part-000001.parquet"]
+
+
+def test_a_worker_that_does_not_see_it_sends_the_bytes(tmp_path):
+    """A same-named folder elsewhere (another run's token) or none at all: nothing written."""
+    store = ChunkStore(tmp_path / "out", Tiny.digest, Tiny.n_chunks)
+    elsewhere = ChunkFiles(store.folder, store.files.width, "another-run")
+    nowhere = ChunkFiles(tmp_path / "absent", store.files.width, store.files.token)
+    for files in (elsewhere, nowhere, None):
+        data = _run_stored(Tiny(), 2, files)
+        assert data == parquet_bytes(Tiny().run_chunk(2))
+    assert not store.parts() and not (tmp_path / "absent").exists()
+    store.write(2, data)
+    assert store.done(2) and store.path(2).read_bytes() == data
+
+
+def test_a_writer_killed_mid_write_leaves_no_chunk(tmp_path):
+    """A process killed (SIGKILL) with chunk 1's file written but not yet renamed: the folder
+    shows chunk 0 only, to any Parquet reader; the next run removes the leftover and the chunk
+    is missing, so it runs again."""
+    store = ChunkStore(tmp_path / "out", Tiny.digest, Tiny.n_chunks)
+    _run_stored(Tiny(), 0, store.files)
+    script = ("import os, signal, sys\n"
+              "sys.path.insert(0, sys.argv[1])\n"
+              "from test_sweep_store import Tiny\n"
+              "from pipeplug_harness.sweep import engine, store\n"
+              "store.os.replace = lambda a, b: os.kill(os.getpid(), signal.SIGKILL)\n"
+              "files = store.ChunkFiles(store.Path(sys.argv[2]), int(sys.argv[3]), sys.argv[4])\n"
+              "engine._run_stored(Tiny(), 1, files)\n")
+    proc = subprocess.run([sys.executable, "-c", script, str(Path(__file__).parent),
+                           str(store.folder), str(store.files.width), store.files.token],
+                          check=False)
+    assert proc.returncode == -9
+    left = [p.name for p in store.folder.glob(".part-000001.parquet.*.tmp")]
+    assert len(left) == 1
+    assert not store.done(1) and [p.name for p in store.parts()] == ["part-000000.parquet"]
+    assert pq.read_table(store.folder).equals(Tiny().run_chunk(0))
+    again = ChunkStore(store.folder, Tiny.digest, Tiny.n_chunks)
+    assert [c for c in range(3) if not again.done(c)] == [1, 2]
+    assert not list(store.folder.glob(".*.tmp"))
