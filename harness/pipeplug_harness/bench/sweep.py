@@ -37,17 +37,18 @@ Measured, in one run:
    run is only a fair measure when that is near 0. Also ``w``: the CPU time per case of this
    process (the client and the LocalCluster's scheduler: each chunk's acknowledgement, or its
    file to receive and write; its part per chunk is then counted in ``s`` too, the pessimistic
-   side) in the 1-worker runs. Here it shares the 2 cores with the workers, which bounds the speed-up by
-   ``2 c / (c + w)``;
+   side) in the 1-worker runs. Here it shares the 2 cores with the workers, which bounds the
+   speed-up by ``2 c / (c + w)``. Part of ``w`` is Dask's housekeeping, paid per second, not
+   per case (``h``: this process's CPU per second with the 1-worker cluster idle);
 4. the projection for W workers of a cluster (batch mix)::
 
        T(N, W) = t_start + max((N c + n s) / W, n s + N w),   n = ceil(N / B)
 
-   with ``c``, ``s``, ``w`` as measured here (a cluster's cores may be faster or slower; the
-   client on a machine of its own): the workers share the cases and the chunks' costs; the
-   scheduler and the client take the chunks one at a time (counting all of ``s`` there is the
-   pessimistic side) and the client's work per case (``w``). Beyond
-   ``W_max = (c + s / B) / (w + s / B)`` workers they, not the workers, set the pace: larger
+   with ``c``, ``s`` as measured here and ``w`` less the housekeeping, ``w - h c`` (a
+   cluster's cores may be faster or slower; the client on a machine of its own): the workers
+   share the cases and the chunks' costs; the scheduler and the client take the chunks one at
+   a time (counting all of ``s`` there is the pessimistic side) and the client's work per case.
+   Beyond ``W_max = (c + s / B) / (w + s / B)`` workers they, not the workers, set the pace: larger
    chunks raise it (the projection is printed for B and 10 B).
 """
 from __future__ import annotations
@@ -170,6 +171,13 @@ def one_against_two(specs: dict, repeat: int, folder: Path) -> dict:
     return times
 
 
+def _idle_cpu(seconds: float) -> float:
+    """This process's CPU seconds per second over ``seconds`` of doing nothing."""
+    start, wall = _own_cpu(), time.perf_counter()
+    time.sleep(seconds)
+    return (_own_cpu() - start) / (time.perf_counter() - wall)
+
+
 def _own_cpu() -> float:
     t = os.times()
     return t.user + t.system
@@ -208,19 +216,22 @@ def main(argv: list[str] | None = None) -> int:
             t_start = time.perf_counter() - start
             _warm(client, tmp)
             s = engine_seconds(EmptyChunks(args.empty), client, tmp / "empty") / args.empty
+            h = _idle_cpu(2.0)
         print(f"LocalCluster start {t_start:.2f} s; engine cost per chunk s = {s * 1e3:.2f} ms "
-              f"({args.empty} empty chunks, 1 worker)", flush=True)
+              f"({args.empty} empty chunks, 1 worker); housekeeping h = {h:.3f} cores (this "
+              f"process, the cluster idle)", flush=True)
         times = one_against_two(runs, args.repeat, tmp)
     print(f"load average after the runs {os.getloadavg()[0]:.2f}")
     costs = {mix: _report(mix, runs[mix], times[mix], s) for mix in runs}
     (c, w), big = costs["batch"], specs["batch"]
+    net = max(0.0, w - h * c)                  # the client's work per case, on a core of its own
     t_big = min(r.seconds for r in times["batch"][2])
     print(f"{big.n_cases:,} single blows (batch API) on 2 workers, chunks of {big.chunk:,}: "
           f"{t_big:.2f} s ({big.n_cases / t_big:,.0f} cases/s); the model below predicts "
-          f"{_projected(big.n_cases, 2, big.chunk, c, s, w, 0.0):.2f} s with its client on "
+          f"{_projected(big.n_cases, 2, big.chunk, c, s, net, 0.0):.2f} s with its client on "
           f"cores of its own, {(big.n_cases * (c + w) + big.n_chunks * s) / 2:.2f} s sharing "
           f"these 2", flush=True)
-    _projection(c, s, w, t_start, big.chunk)
+    _projection(c, s, net, t_start, big.chunk)
     return 0
 
 
@@ -254,7 +265,7 @@ def _projected(n: int, w: int, b: int, c: float, s: float, write: float,
 
 def _projection(c: float, s: float, write: float, t_start: float, b: int) -> None:
     print(f"projection (batch API): T(N, W) = t_start + max((N c + n s) / W, n s + N w), "
-          f"n = ceil(N/B), with c = {c * 1e6:.2f} us, s = {s * 1e3:.2f} ms, w = "
+          f"n = ceil(N/B), with c = {c * 1e6:.2f} us, s = {s * 1e3:.2f} ms, w - h c = "
           f"{write * 1e6:.3f} us, t_start = {t_start:.1f} s (this machine's):")
     for chunk in (b, 10 * b):
         print(f"  B = {chunk:,}: the scheduler and the client set the pace beyond W_max = "
