@@ -11,6 +11,12 @@ free end). One step of length ``dt`` is
    ``c = dt * tau * P * (contact length)``;
 3. drift: ``N[f] += (E S / dx) dt (v[f] - v[f-1])`` at the inner faces.
 
+Cells at rest whose inputs did not change are skipped (:func:`moving_end`, the kernels): a cell's
+step is a function of its velocity, the forces on its faces and its friction limits alone, so it
+would give the same result again, velocity 0 and the same static reaction, and a face between
+two cells at rest keeps its force (``N + b * 0 == N``). Only the impulse sums of the step need
+every cell: the kernels take the last step of a call in full.
+
 Friction work per contact and step is ``-I (v_old + v_new) / 2`` (impulse times mean velocity),
 which makes the discrete energy balance exact (see :meth:`ElasticModel.energies`). It is
 negative only when a step reverses a node's relative velocity; that part is kept apart in
@@ -22,7 +28,7 @@ from ..contact import coulomb
 from ..jit import jitable
 
 __all__ = ["free_cells", "soil_cells", "plug_cells", "plug_soil_cells", "drift", "track",
-           "soil_start"]
+           "soil_start", "moving_end", "next_end"]
 
 # The projections are the rigid models' own (one source); compiled kernels call them too.
 one_contact = jitable(coulomb.one_contact)
@@ -89,8 +95,9 @@ def plug_cells(v1, N1, v2, N2, j0, a1, a2, m1, m2, c2):
 
 
 @jitable
-def plug_soil_cells(v1, N1, v2, N2, j0, a1, a2, m1, m2, c1, c2, start):
-    """As :func:`plug_cells`, with the soil contact too (weights as in :func:`soil_cells`).
+def plug_soil_cells(v1, N1, v2, N2, j0, end, a1, a2, m1, m2, c1, c2, start):
+    """As :func:`plug_cells` for the pipe cells ``j0..end-1``, with the soil contact too
+    (weights as in :func:`soil_cells`).
 
     Returns the impulses of the soil and of the plug on the pipe [N s], the work dissipated at
     the soil and at the plug contacts, and the negative part of both [J].
@@ -100,7 +107,7 @@ def plug_soil_cells(v1, N1, v2, N2, j0, a1, a2, m1, m2, c1, c2, start):
     work_outer = 0.0
     work_inner = 0.0
     w_neg = 0.0
-    for k in range(v2.shape[0]):
+    for k in range(max(end - j0, 0)):
         j = j0 + k
         p_old = v1[j]
         q_old = v2[k]
@@ -117,9 +124,11 @@ def plug_soil_cells(v1, N1, v2, N2, j0, a1, a2, m1, m2, c1, c2, start):
 
 
 @jitable
-def drift(v, N, b):
-    """Update the inner-face forces from the new velocities; ``b = E S dt / dx`` [N s/m]."""
-    for f in range(1, v.shape[0]):
+def drift(v, N, b, end):
+    """Update the inner-face forces from the new velocities; ``b = E S dt / dx`` [N s/m].
+
+    Only the faces of the cells before ``end`` (the faces beyond lie between cells at rest)."""
+    for f in range(1, min(end + 1, v.shape[0])):
         N[f] += b * (v[f] - v[f - 1])
 
 
@@ -128,6 +137,30 @@ def track(u, cells, v, dt):
     """Advance the displacements ``u[i]`` of the tracked cells ``cells[i]`` by ``dt v``."""
     for i in range(cells.shape[0]):
         u[i] += dt * v[cells[i]]
+
+
+@jitable
+def moving_end(v1, v2, j0, end):
+    """One past the last pipe cell before ``end`` that moves, itself or the plug cell coupled
+    to it (pipe cell ``j0 + k`` and plug cell ``k``); 0 when none does."""
+    for j in range(end - 1, -1, -1):
+        if v1[j] != 0.0 or (j >= j0 and v2[j - j0] != 0.0):
+            return j + 1
+    return 0
+
+
+@jitable
+def next_end(moved, moved_before, n):
+    """The pipe cells the next step must take, from ``moved`` and ``moved_before``
+    (:func:`moving_end` after this step and after the one before; cells from there on are at
+    rest, the rest of the ``n`` cells too).
+
+    A cell from ``max(moved + 1, moved_before)`` on was at rest before this step and after it,
+    and so were its neighbours after it: its velocity, the forces on its faces and, as the front
+    end (the last cell) did not move, its soil contact are those of this step, whose result it
+    would repeat.
+    """
+    return min(n, max(moved + 1, moved_before))
 
 
 @jitable

@@ -12,6 +12,12 @@ fields (without a plug ``v2`` is empty and ``N2`` one unused face), ``u1``/``u2`
 tracked cells ``cells1``/``cells2`` (``cells1[0]`` is the pipe's front cell), and ``acc`` the
 accumulated works and the last step's friction forces (indices below).
 
+The loops with soil friction step only the pipe cells before an ``end`` (and the plug cells
+coupled to them): the cells beyond are at rest and would repeat their last step
+(:func:`pipeplug.elastic.cells.next_end`), which the last step of a call takes in full for its
+impulse sums. The results are those of stepping every cell, bit for bit: it saves the work of the
+part of the rods that static friction holds in the soil while the rest rings.
+
 These loops are meant to be compiled (:func:`pipeplug.jit.compiled`). Without numba the model
 uses :mod:`pipeplug.elastic.vectorised` instead: the same variants as whole-array numpy steps,
 with the same results bit for bit.
@@ -19,7 +25,17 @@ with the same results bit for bit.
 from __future__ import annotations
 
 from ..jit import jitable
-from .cells import drift, free_cells, plug_cells, plug_soil_cells, soil_cells, soil_start, track
+from .cells import (
+    drift,
+    free_cells,
+    moving_end,
+    next_end,
+    plug_cells,
+    plug_soil_cells,
+    soil_cells,
+    soil_start,
+    track,
+)
 
 __all__ = ["KERNELS"]
 
@@ -35,11 +51,12 @@ N_ACC = 6
 
 
 @jitable
-def _finish_step(q, dt, v_first_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc):
-    """Add the input work of the step [J]; then drift the forces and displacements."""
+def _finish_step(q, dt, v_first_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc, end):
+    """Add the input work of the step [J]; then drift the forces of the pipe cells before
+    ``end`` and of the plug cells coupled to them, and the displacements."""
     acc[W_IN] += 0.5 * q * dt * (v_first_old + v1[0])
-    drift(v1, N1, coef[K1] * dt)
-    drift(v2, N2, coef[K2] * dt)
+    drift(v1, N1, coef[K1] * dt, end)
+    drift(v2, N2, coef[K2] * dt, end - (v1.shape[0] - v2.shape[0]))
     track(u1, cells1, v1, dt)
     track(u2, cells2, v2, dt)
 
@@ -53,30 +70,33 @@ def _add_work(acc, contact, work, w_neg):
 
 
 @jitable
-def _soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, start):
-    """One step of the pipe on the soil; returns the soil's impulse on the pipe [N s]."""
+def _soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, start, end):
+    """One step of the pipe cells before ``end`` on the soil; returns the soil's impulse on
+    them [N s]."""
     v_old = v1[0]
-    outer, work, w_neg = soil_cells(v1, N1, 0, v1.shape[0], dt / coef[M1], coef[M1],
-                                    dt * coef[C1], start)
+    outer, work, w_neg = soil_cells(v1, N1, 0, end, dt / coef[M1], coef[M1], dt * coef[C1],
+                                    start)
     _add_work(acc, W_OUTER, work, w_neg)
-    _finish_step(q, dt, v_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc)
+    _finish_step(q, dt, v_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc, end)
     return outer
 
 
 @jitable
-def _plug_soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, start):
-    """One step of pipe, plug and soil; returns the soil's and plug's impulses [N s]."""
+def _plug_soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, start, end):
+    """One step of the pipe cells before ``end``, the plug cells coupled to them and the soil;
+    returns the soil's and plug's impulses on them [N s]."""
     v_old = v1[0]
     j0 = v1.shape[0] - v2.shape[0]
     a1 = dt / coef[M1]
     c1 = dt * coef[C1]
-    outer, work, w_neg = soil_cells(v1, N1, 0, j0, a1, coef[M1], c1, start)
+    outer, work, w_neg = soil_cells(v1, N1, 0, min(j0, end), a1, coef[M1], c1, start)
     _add_work(acc, W_OUTER, work, w_neg)
     outer2, inner, work_outer, work_inner, w_neg = plug_soil_cells(
-        v1, N1, v2, N2, j0, a1, dt / coef[M2], coef[M1], coef[M2], c1, dt * coef[C2], start)
+        v1, N1, v2, N2, j0, end, a1, dt / coef[M2], coef[M1], coef[M2], c1, dt * coef[C2],
+        start)
     _add_work(acc, W_OUTER, work_outer, 0.0)
     _add_work(acc, W_INNER, work_inner, w_neg)
-    _finish_step(q, dt, v_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc)
+    _finish_step(q, dt, v_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc, end)
     return outer + outer2, inner
 
 
@@ -87,7 +107,8 @@ def run_pipe(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
     for _ in range(n):
         v_old = v1[0]
         free_cells(v1, N1, 0, v1.shape[0], dt / coef[M1])
-        _finish_step(q, dt, v_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc)
+        _finish_step(q, dt, v_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc,
+                     v1.shape[0])
     acc[F_OUT] = 0.0
     acc[F_IN] = 0.0
 
@@ -96,9 +117,14 @@ def run_pipe(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
 def run_pipe_soil(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
     """Pipe on the soil over its whole length."""
     N1[0] = -q
+    n1 = v1.shape[0]
     outer = 0.0
-    for _ in range(n):
-        outer = _soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, 0.0)
+    end = moved = n1
+    for i in range(n):
+        if i == n - 1:
+            end = n1
+        outer = _soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, 0.0, end)
+        end, moved = _next(v1, v2, n1, end, moved)
     acc[F_OUT] = outer / dt
     acc[F_IN] = 0.0
 
@@ -107,10 +133,16 @@ def run_pipe_soil(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
 def run_pipe_soil_growth(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
     """Pipe on the soil over the penetrated length."""
     N1[0] = -q
+    n1 = v1.shape[0]
     outer = 0.0
-    for _ in range(n):
-        start = soil_start(u1[0], v1.shape[0], coef[DX])
-        outer = _soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, start)
+    end = moved = n1
+    for i in range(n):
+        if i == n - 1:
+            end = n1
+        start = soil_start(u1[0], n1, coef[DX])
+        outer = _soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, start,
+                           end)
+        end, moved = _next(v1, v2, n1, end, moved)
     acc[F_OUT] = outer / dt
     acc[F_IN] = 0.0
 
@@ -127,7 +159,8 @@ def run_pipe_plug(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
         inner, work, w_neg = plug_cells(v1, N1, v2, N2, j0, dt / coef[M1], dt / coef[M2],
                                         coef[M1], coef[M2], dt * coef[C2])
         _add_work(acc, W_INNER, work, w_neg)
-        _finish_step(q, dt, v_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc)
+        _finish_step(q, dt, v_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc,
+                     v1.shape[0])
     acc[F_OUT] = 0.0
     acc[F_IN] = inner / dt
 
@@ -136,10 +169,15 @@ def run_pipe_plug(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
 def run_pipe_plug_soil(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
     """Pipe, plug and soil over the whole pipe length."""
     N1[0] = -q
+    n1 = v1.shape[0]
     outer = inner = 0.0
-    for _ in range(n):
+    end = moved = n1
+    for i in range(n):
+        if i == n - 1:
+            end = n1
         outer, inner = _plug_soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2,
-                                       acc, 0.0)
+                                       acc, 0.0, end)
+        end, moved = _next(v1, v2, n1, end, moved)
     acc[F_OUT] = outer / dt
     acc[F_IN] = inner / dt
 
@@ -148,13 +186,26 @@ def run_pipe_plug_soil(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, a
 def run_pipe_plug_soil_growth(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
     """Pipe, plug and soil over the penetrated length."""
     N1[0] = -q
+    n1 = v1.shape[0]
     outer = inner = 0.0
-    for _ in range(n):
-        start = soil_start(u1[0], v1.shape[0], coef[DX])
+    end = moved = n1
+    for i in range(n):
+        if i == n - 1:
+            end = n1
+        start = soil_start(u1[0], n1, coef[DX])
         outer, inner = _plug_soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2,
-                                       acc, start)
+                                       acc, start, end)
+        end, moved = _next(v1, v2, n1, end, moved)
     acc[F_OUT] = outer / dt
     acc[F_IN] = inner / dt
+
+
+@jitable
+def _next(v1, v2, n1, end, moved_before):
+    """The cells the next step takes, and where the motion ends after this one (the start of a
+    call assumes that every cell moved the step before)."""
+    moved = moving_end(v1, v2, n1 - v2.shape[0], end)
+    return next_end(moved, moved_before, n1), moved
 
 
 #: (plug, soil, growth) -> kernel
