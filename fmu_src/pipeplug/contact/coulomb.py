@@ -70,9 +70,11 @@ def one_contact(m, w, c, slack):
 def pair_contact(m1, m2, w1, w2, c2):
     """Pipe and plug without a soil contact: ``(x1, x2, f2)``.
 
-    The specialisation of :func:`two_contacts` with ``c1 = 0`` and no slack (same arithmetic):
-    stuck together at the momentum average when the static reaction is within ``c2``, else
-    sliding with ``f2 = -c2 sign(w1 - w2)``.
+    The problem of :func:`two_contacts` without contact 1: stuck together at the momentum
+    average when the static reaction is within ``c2``, else sliding with
+    ``f2 = -c2 sign(w1 - w2)``; the momentum ``m1 w1 + m2 w2`` is kept. (:func:`two_contacts`
+    with ``c1 = 0`` gives the same except within its slack: there it takes a pair whose momentum
+    is round-off against ``m1 |w1| + m2 |w2|`` as stuck to the support.)
     """
     x = (m1 * w1 + m2 * w2) / (m1 + m2)
     f2 = -m2 * (x - w2)

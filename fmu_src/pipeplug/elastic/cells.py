@@ -99,6 +99,10 @@ def plug_soil_cells(v1, N1, v2, N2, j0, end, a1, a2, m1, m2, c1, c2, start):
     """As :func:`plug_cells` for the pipe cells ``j0..end-1``, with the soil contact too
     (weights as in :func:`soil_cells`).
 
+    A cell outside the soil's contact (weight 0) is the pair problem of :func:`plug_cells`: not
+    the two-contact problem with a zero limit, which within its round-off slack would hold a
+    pair of nearly opposite momenta still as if the soil touched it (and costs more).
+
     Returns the impulses of the soil and of the plug on the pipe [N s], the work dissipated at
     the soil and at the plug contacts, and the negative part of both [J].
     """
@@ -112,13 +116,17 @@ def plug_soil_cells(v1, N1, v2, N2, j0, end, a1, a2, m1, m2, c1, c2, start):
         p_old = v1[j]
         q_old = v2[k]
         limit = c1 * min(max(j + 1.0 - start, 0.0), 1.0)
-        x1, x2, f1, f2, _, _ = two_contacts(m1, m2, p_old + a1 * (N1[j + 1] - N1[j]),
-                                            q_old + a2 * (N2[k + 1] - N2[k]), limit, c2, 0.0)
+        w1 = p_old + a1 * (N1[j + 1] - N1[j])
+        w2 = q_old + a2 * (N2[k + 1] - N2[k])
+        if limit == 0.0:
+            x1, x2, f2 = pair_contact(m1, m2, w1, w2, c2)
+        else:
+            x1, x2, f1, f2, _, _ = two_contacts(m1, m2, w1, w2, limit, c2, 0.0)
+            outer += f1
+            work_outer, w_neg = _book(-0.5 * f1 * (p_old + x1), work_outer, w_neg)
         v1[j] = x1
         v2[k] = x2
-        outer += f1
         inner += f2
-        work_outer, w_neg = _book(-0.5 * f1 * (p_old + x1), work_outer, w_neg)
         work_inner, w_neg = _book(-0.5 * f2 * (p_old - q_old + x1 - x2), work_inner, w_neg)
     return outer, inner, work_outer, work_inner, w_neg
 

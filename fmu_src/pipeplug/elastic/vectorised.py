@@ -112,7 +112,15 @@ def _plug_soil_part(pipe, plug, m1, m2, c1, c2, acc):
 
     def part():
         p, q = pipe.v, plug.v
-        x1, x2, f1, f2 = solve(pipe.trial(), plug.trial(), c1)
+        w1, w2 = pipe.trial(), plug.trial()
+        x1, x2, f1, f2 = solve(w1, w2, c1)
+        if np.ndim(c1):
+            # Cells outside the soil's contact (limit 0) are the pair problem, as in the loops.
+            free = c1 == 0.0
+            if free.any():
+                x1, x2, f1, f2 = x1.copy(), x2.copy(), f1.copy(), f2.copy()
+                x1[free], x2[free], f2[free] = pair_contact(m1, m2, w1[free], w2[free], c2)
+                f1[free] = 0.0
         np.multiply(-0.5 * f1, p + x1, out=outer_works)
         np.multiply(-0.5 * f2, p - q + x1 - x2, out=inner_works)
         p[...] = x1

@@ -116,3 +116,24 @@ def test_cells_at_rest_beyond_the_motion_give_the_bits_of_stepping_them(changes,
     assert tails >= 20, "the scene must ring with a part of the rods at rest"
     for name in FIELDS:
         assert getattr(numpy, name).tobytes() == getattr(compiled, name).tobytes(), name
+
+
+@pytest.mark.parametrize("vectorised", [False, True])
+def test_cells_outside_the_soil_keep_a_momentum_below_the_slack(vectorised):
+    """Outside the penetrated length a cell has no soil contact at all: pipe and plug share
+    their momentum, however small against their own, and keep it (the two-contact problem
+    with a zero soil limit would stop a pair whose momentum is within its round-off slack)."""
+    model = _model(dict(tau1=7e4, tau2=3.5e4, L1=1.0, L2=1.0), True, vectorised)
+    m1, m2 = model.grid.coef[0], model.grid.coef[2]
+    state = model.get_state()
+    w2 = 1e-3                                       # slow enough for the plug to stick
+    assert m2 * w2 < model.grid.h_max * model.grid.coef[5]
+    state["v2"][:] = w2
+    state["v1"][:] = -m2 / m1 * w2 * (1.0 + 3e-15)  # pair momentum ~1e-14 of m2 w2
+    model.set_state(state)
+    before = m1 * state["v1"] + m2 * state["v2"]
+    assert np.all(before != 0.0) and np.all(np.abs(before) < 1e-13 * m2 * w2)
+    model.advance(0.0, model.grid.h_max)
+    after = m1 * model.v1 + m2 * model.v2
+    assert np.allclose(after, before, rtol=1e-12, atol=0.0)
+    assert np.all(model.v1 == model.v2)               # stuck together, not to the soil
