@@ -78,15 +78,19 @@ def plug_cells(v1, N1, v2, N2, j0, a1, a2, m1, m2, c2):
     Pipe cell ``j0 + k`` and plug cell ``k`` share a reference section. Returns the impulse of
     the plug on the pipe [N s], the dissipated work and its negative part [J].
     """
-    impulse = 0.0
-    work = 0.0
-    w_neg = 0.0
-    for k in range(v2.shape[0]):
+    return _pairs(v1, N1, v2, N2, j0, 0, v2.shape[0], a1, a2, m1, m2, c2, 0.0, 0.0, 0.0)
+
+
+@jitable
+def _pairs(v1, N1, v2, N2, j0, lo, hi, a1, a2, m1, m2, c2, impulse, work, w_neg):
+    """:func:`plug_cells` for the plug cells ``lo..hi-1``, adding to the sums ``impulse``,
+    ``work`` and ``w_neg`` (returned)."""
+    for k in range(lo, hi):
         j = j0 + k
         p_old = v1[j]
         q_old = v2[k]
         x1, x2, f2 = pair_contact(m1, m2, p_old + a1 * (N1[j + 1] - N1[j]),
-                                        q_old + a2 * (N2[k + 1] - N2[k]), c2)
+                                  q_old + a2 * (N2[k + 1] - N2[k]), c2)
         v1[j] = x1
         v2[k] = x2
         impulse += f2
@@ -106,29 +110,39 @@ def plug_soil_cells(v1, N1, v2, N2, j0, end, a1, a2, m1, m2, c1, c2, start):
     Returns the impulses of the soil and of the plug on the pipe [N s], the work dissipated at
     the soil and at the plug contacts, and the negative part of both [J].
     """
+    # The cells with weight 0 come first (the contact covers the far end): a loop of their own.
+    hi = max(end - j0, 0)
+    free = _first_in_contact(j0, hi, start)
+    inner, work_inner, w_neg = _pairs(v1, N1, v2, N2, j0, 0, free, a1, a2, m1, m2, c2,
+                                      0.0, 0.0, 0.0)
     outer = 0.0
-    inner = 0.0
     work_outer = 0.0
-    work_inner = 0.0
-    w_neg = 0.0
-    for k in range(max(end - j0, 0)):
+    for k in range(free, hi):
         j = j0 + k
         p_old = v1[j]
         q_old = v2[k]
         limit = c1 * min(max(j + 1.0 - start, 0.0), 1.0)
-        w1 = p_old + a1 * (N1[j + 1] - N1[j])
-        w2 = q_old + a2 * (N2[k + 1] - N2[k])
-        if limit == 0.0:
-            x1, x2, f2 = pair_contact(m1, m2, w1, w2, c2)
-        else:
-            x1, x2, f1, f2, _, _ = two_contacts(m1, m2, w1, w2, limit, c2, 0.0)
-            outer += f1
-            work_outer, w_neg = _book(-0.5 * f1 * (p_old + x1), work_outer, w_neg)
+        x1, x2, f1, f2, _, _ = two_contacts(m1, m2, p_old + a1 * (N1[j + 1] - N1[j]),
+                                            q_old + a2 * (N2[k + 1] - N2[k]), limit, c2, 0.0)
         v1[j] = x1
         v2[k] = x2
+        outer += f1
         inner += f2
+        work_outer, w_neg = _book(-0.5 * f1 * (p_old + x1), work_outer, w_neg)
         work_inner, w_neg = _book(-0.5 * f2 * (p_old - q_old + x1 - x2), work_inner, w_neg)
     return outer, inner, work_outer, work_inner, w_neg
+
+
+@jitable
+def _first_in_contact(j0, hi, start):
+    """The first plug cell ``k < hi`` whose pipe cell ``j0 + k`` has a soil weight above 0
+    (``j0 + k + 1 - start > 0``, as :func:`soil_cells` weighs it), else ``hi``."""
+    k = min(max(int(start) - j0 - 1, 0), hi)     # a guess from below, then the exact test
+    while k > 0 and j0 + k + 1.0 - start > 0.0:
+        k -= 1
+    while k < hi and j0 + k + 1.0 - start <= 0.0:
+        k += 1
+    return k
 
 
 @jitable
