@@ -121,10 +121,8 @@ def run_pipe_soil(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
     outer = 0.0
     end = moved = n1
     for i in range(n):
-        if i == n - 1:
-            end = n1
         outer = _soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, 0.0, end)
-        end, moved = _next(v1, v2, n1, end, moved)
+        end, moved = _next(v1, v2, n1, end, moved, i + 2 == n)
     acc[F_OUT] = outer / dt
     acc[F_IN] = 0.0
 
@@ -137,12 +135,10 @@ def run_pipe_soil_growth(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2,
     outer = 0.0
     end = moved = n1
     for i in range(n):
-        if i == n - 1:
-            end = n1
         start = soil_start(u1[0], n1, coef[DX])
         outer = _soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, start,
                            end)
-        end, moved = _next(v1, v2, n1, end, moved)
+        end, moved = _next(v1, v2, n1, end, moved, i + 2 == n)
     acc[F_OUT] = outer / dt
     acc[F_IN] = 0.0
 
@@ -173,11 +169,9 @@ def run_pipe_plug_soil(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, a
     outer = inner = 0.0
     end = moved = n1
     for i in range(n):
-        if i == n - 1:
-            end = n1
         outer, inner = _plug_soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2,
                                        acc, 0.0, end)
-        end, moved = _next(v1, v2, n1, end, moved)
+        end, moved = _next(v1, v2, n1, end, moved, i + 2 == n)
     acc[F_OUT] = outer / dt
     acc[F_IN] = inner / dt
 
@@ -190,22 +184,21 @@ def run_pipe_plug_soil_growth(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2
     outer = inner = 0.0
     end = moved = n1
     for i in range(n):
-        if i == n - 1:
-            end = n1
         start = soil_start(u1[0], n1, coef[DX])
         outer, inner = _plug_soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2,
                                        acc, start, end)
-        end, moved = _next(v1, v2, n1, end, moved)
+        end, moved = _next(v1, v2, n1, end, moved, i + 2 == n)
     acc[F_OUT] = outer / dt
     acc[F_IN] = inner / dt
 
 
 @jitable
-def _next(v1, v2, n1, end, moved_before):
-    """The cells the next step takes, and where the motion ends after this one (the start of a
-    call assumes that every cell moved the step before)."""
+def _next(v1, v2, n1, end, moved_before, last):
+    """The cells the next step takes (all if it is the ``last`` of the call, for its impulse
+    sums), and where the motion ends after this one (the start of a call assumes that every
+    cell moved the step before)."""
     moved = moving_end(v1, v2, n1 - v2.shape[0], end)
-    return next_end(moved, moved_before, n1), moved
+    return (n1 if last else next_end(moved, moved_before, n1)), moved
 
 
 #: (plug, soil, growth) -> kernel
