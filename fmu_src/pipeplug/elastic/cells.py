@@ -72,34 +72,55 @@ def soil_cells(v, N, lo, hi, a, m, c, start):
 
 
 @jitable
-def plug_cells(v1, N1, v2, N2, j0, a1, a2, m1, m2, c2):
+def plug_cells(v1, N1, v2, N2, j0, a1, a2, m1, m2, c2, scratch):
     """Kick the pipe cells ``j0..`` and the plug cells coupled to them, then project each pair.
 
-    Pipe cell ``j0 + k`` and plug cell ``k`` share a reference section. Returns the impulse of
-    the plug on the pipe [N s], the dissipated work and its negative part [J].
+    Pipe cell ``j0 + k`` and plug cell ``k`` share a reference section; ``scratch`` is an array
+    of shape (2, plug cells) for :func:`_pairs`. Returns the impulse of the plug on the pipe
+    [N s], the dissipated work and its negative part [J].
     """
-    return _pairs(v1, N1, v2, N2, j0, 0, v2.shape[0], a1, a2, m1, m2, c2, 0.0, 0.0, 0.0)
+    return _pairs(v1, N1, v2, N2, j0, 0, v2.shape[0], a1, a2, m1, m2, c2, 0.0, 0.0, 0.0,
+                  scratch)
 
 
 @jitable
-def _pairs(v1, N1, v2, N2, j0, lo, hi, a1, a2, m1, m2, c2, impulse, work, w_neg):
+def _pairs(v1, N1, v2, N2, j0, lo, hi, a1, a2, m1, m2, c2, impulse, work, w_neg, scratch):
     """:func:`plug_cells` for the plug cells ``lo..hi-1``, adding to the sums ``impulse``,
-    ``work`` and ``w_neg`` (returned)."""
-    for k in range(lo, hi):
-        j = j0 + k
-        p_old = v1[j]
-        q_old = v2[k]
-        x1, x2, f2 = pair_contact(m1, m2, p_old + a1 * (N1[j + 1] - N1[j]),
-                                  q_old + a2 * (N2[k + 1] - N2[k]), c2)
-        v1[j] = x1
-        v2[k] = x2
-        impulse += f2
-        work, w_neg = _book(-0.5 * f2 * (p_old - q_old + x1 - x2), work, w_neg)
+    ``work`` and ``w_neg`` (returned).
+
+    In two passes: the pairs, each on its own, their impulses and works kept in ``scratch``
+    (shape (2, at least hi - lo)); then the sums, in the cells' order. No sum is carried from
+    one pair to the next in the first pass, so compiled code projects several pairs at once
+    (the pair problem has no branch that it cannot turn into a select).
+    """
+    n = max(hi - lo, 0)
+    impulses, works = scratch[0, :n], scratch[1, :n]
+    _pair_pass(v1[j0 + lo:j0 + lo + n], N1[j0 + lo:j0 + lo + n + 1], v2[lo:lo + n],
+               N2[lo:lo + n + 1], a1, a2, m1, m2, c2, impulses, works)
+    for k in range(n):
+        impulse += impulses[k]
+        work, w_neg = _book(works[k], work, w_neg)
     return impulse, work, w_neg
 
 
 @jitable
-def plug_soil_cells(v1, N1, v2, N2, j0, end, a1, a2, m1, m2, c1, c2, start):
+def _pair_pass(p, Np, q, Nq, a1, a2, m1, m2, c2, impulses, works):
+    """Kick and project the pairs of pipe cells ``p`` and plug cells ``q`` (views, with the
+    faces ``Np``, ``Nq`` around them); their plug impulses [N s] and friction works [J] go to
+    ``impulses`` and ``works``."""
+    for k in range(p.shape[0]):
+        p_old = p[k]
+        q_old = q[k]
+        x1, x2, f2 = pair_contact(m1, m2, p_old + a1 * (Np[k + 1] - Np[k]),
+                                  q_old + a2 * (Nq[k + 1] - Nq[k]), c2)
+        p[k] = x1
+        q[k] = x2
+        impulses[k] = f2
+        works[k] = -0.5 * f2 * (p_old - q_old + x1 - x2)
+
+
+@jitable
+def plug_soil_cells(v1, N1, v2, N2, j0, end, a1, a2, m1, m2, c1, c2, start, scratch):
     """As :func:`plug_cells` for the pipe cells ``j0..end-1``, with the soil contact too
     (weights as in :func:`soil_cells`).
 
@@ -114,7 +135,7 @@ def plug_soil_cells(v1, N1, v2, N2, j0, end, a1, a2, m1, m2, c1, c2, start):
     hi = max(end - j0, 0)
     free = _first_in_contact(j0, hi, start)
     inner, work_inner, w_neg = _pairs(v1, N1, v2, N2, j0, 0, free, a1, a2, m1, m2, c2,
-                                      0.0, 0.0, 0.0)
+                                      0.0, 0.0, 0.0, scratch)
     outer = 0.0
     work_outer = 0.0
     for k in range(free, hi):

@@ -24,6 +24,8 @@ with the same results bit for bit.
 """
 from __future__ import annotations
 
+import numpy as np
+
 from ..jit import jitable
 from .cells import (
     drift,
@@ -82,9 +84,11 @@ def _soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, start, 
 
 
 @jitable
-def _plug_soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, start, end):
-    """One step of the pipe cells before ``end``, the plug cells coupled to them and the soil;
-    returns the soil's and plug's impulses on them [N s]."""
+def _plug_soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, start, end,
+                    scratch):
+    """One step of the pipe cells before ``end``, the plug cells coupled to them and the soil
+    (``scratch`` for :func:`pipeplug.elastic.cells.plug_soil_cells`); returns the soil's and
+    plug's impulses on them [N s]."""
     v_old = v1[0]
     j0 = v1.shape[0] - v2.shape[0]
     a1 = dt / coef[M1]
@@ -93,7 +97,7 @@ def _plug_soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, st
     _add_work(acc, W_OUTER, work, w_neg)
     outer2, inner, work_outer, work_inner, w_neg = plug_soil_cells(
         v1, N1, v2, N2, j0, end, a1, dt / coef[M2], coef[M1], coef[M2], c1, dt * coef[C2],
-        start)
+        start, scratch)
     _add_work(acc, W_OUTER, work_outer, 0.0)
     _add_work(acc, W_INNER, work_inner, w_neg)
     _finish_step(q, dt, v_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc, end)
@@ -149,11 +153,12 @@ def run_pipe_plug(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
     N1[0] = -q
     j0 = v1.shape[0] - v2.shape[0]
     inner = 0.0
+    scratch = _scratch(v2)
     for _ in range(n):
         v_old = v1[0]
         free_cells(v1, N1, 0, j0, dt / coef[M1])
         inner, work, w_neg = plug_cells(v1, N1, v2, N2, j0, dt / coef[M1], dt / coef[M2],
-                                        coef[M1], coef[M2], dt * coef[C2])
+                                        coef[M1], coef[M2], dt * coef[C2], scratch)
         _add_work(acc, W_INNER, work, w_neg)
         _finish_step(q, dt, v_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc,
                      v1.shape[0])
@@ -168,9 +173,10 @@ def run_pipe_plug_soil(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, a
     n1 = v1.shape[0]
     outer = inner = 0.0
     end = moved = n1
+    scratch = _scratch(v2)
     for i in range(n):
         outer, inner = _plug_soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2,
-                                       acc, 0.0, end)
+                                       acc, 0.0, end, scratch)
         end, moved = _next(v1, v2, n1, end, moved, i + 2 == n)
     acc[F_OUT] = outer / dt
     acc[F_IN] = inner / dt
@@ -183,13 +189,20 @@ def run_pipe_plug_soil_growth(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2
     n1 = v1.shape[0]
     outer = inner = 0.0
     end = moved = n1
+    scratch = _scratch(v2)
     for i in range(n):
         start = soil_start(u1[0], n1, coef[DX])
         outer, inner = _plug_soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2,
-                                       acc, start, end)
+                                       acc, start, end, scratch)
         end, moved = _next(v1, v2, n1, end, moved, i + 2 == n)
     acc[F_OUT] = outer / dt
     acc[F_IN] = inner / dt
+
+
+@jitable
+def _scratch(v2):
+    """Room for the per-pair impulses and works of one step (see ``cells._pairs``)."""
+    return np.empty((2, v2.shape[0]))
 
 
 @jitable
