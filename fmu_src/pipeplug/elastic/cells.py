@@ -46,11 +46,12 @@ def free_cells(v, N, lo, hi, a):
 
 
 @jitable
-def soil_cells(v, N, lo, hi, a, m, c, start):
+def soil_cells(v, N, lo, hi, a, m, c, start, scratch):
     """Kick cells ``lo..hi-1`` touching only the soil, then project their velocities.
 
     The contact of cell ``j`` covers the part of the cell beyond ``start`` (in cells from the
     struck end): weight ``clip(j + 1 - start, 0, 1)`` of the full-cell limit ``c`` [N s].
+    Two passes, as in :func:`_pairs` (``scratch`` likewise).
 
     Returns
     -------
@@ -58,17 +59,24 @@ def soil_cells(v, N, lo, hi, a, m, c, start):
         Total friction impulse on the rod along +x [N s]; dissipated work [J] (>= 0) and the
         negative part from reversing steps [J].
     """
-    impulse = 0.0
-    work = 0.0
-    w_neg = 0.0
-    for j in range(lo, hi):
-        v_old = v[j]
-        limit = c * min(max(j + 1.0 - start, 0.0), 1.0)
-        x, f = one_contact(m, v_old + a * (N[j + 1] - N[j]), limit, 0.0)
-        v[j] = x
-        impulse += f
-        work, w_neg = _book(-0.5 * f * (v_old + x), work, w_neg)
-    return impulse, work, w_neg
+    n = max(hi - lo, 0)
+    impulses, works = scratch[0, :n], scratch[1, :n]
+    _soil_pass(v[lo:lo + n], N[lo:lo + n + 1], lo, a, m, c, start, impulses, works)
+    return _sums(impulses, works, 0.0, 0.0, 0.0)
+
+
+@jitable
+def _soil_pass(v, N, lo, a, m, c, start, impulses, works):
+    """Kick and project the cells ``v`` (a view from cell ``lo``, with the faces ``N`` around
+    them) on the soil; their impulses [N s] and friction works [J] go to ``impulses`` and
+    ``works``."""
+    for k in range(v.shape[0]):
+        v_old = v[k]
+        limit = c * min(max(lo + k + 1.0 - start, 0.0), 1.0)
+        x, f = one_contact(m, v_old + a * (N[k + 1] - N[k]), limit, 0.0)
+        v[k] = x
+        impulses[k] = f
+        works[k] = -0.5 * f * (v_old + x)
 
 
 @jitable
@@ -76,7 +84,7 @@ def plug_cells(v1, N1, v2, N2, j0, a1, a2, m1, m2, c2, scratch):
     """Kick the pipe cells ``j0..`` and the plug cells coupled to them, then project each pair.
 
     Pipe cell ``j0 + k`` and plug cell ``k`` share a reference section; ``scratch`` is an array
-    of shape (2, plug cells) for :func:`_pairs`. Returns the impulse of the plug on the pipe
+    of shape (2, at least the plug's cells) for :func:`_pairs`. Returns the impulse of the plug on the pipe
     [N s], the dissipated work and its negative part [J].
     """
     return _pairs(v1, N1, v2, N2, j0, 0, v2.shape[0], a1, a2, m1, m2, c2, 0.0, 0.0, 0.0,
@@ -97,7 +105,14 @@ def _pairs(v1, N1, v2, N2, j0, lo, hi, a1, a2, m1, m2, c2, impulse, work, w_neg,
     impulses, works = scratch[0, :n], scratch[1, :n]
     _pair_pass(v1[j0 + lo:j0 + lo + n], N1[j0 + lo:j0 + lo + n + 1], v2[lo:lo + n],
                N2[lo:lo + n + 1], a1, a2, m1, m2, c2, impulses, works)
-    for k in range(n):
+    return _sums(impulses, works, impulse, work, w_neg)
+
+
+@jitable
+def _sums(impulses, works, impulse, work, w_neg):
+    """Add ``impulses`` [N s] to ``impulse`` and ``works`` [J] to ``work`` or ``w_neg``
+    (:func:`_book`), in index order (the cells' order); returns the three sums."""
+    for k in range(impulses.shape[0]):
         impulse += impulses[k]
         work, w_neg = _book(works[k], work, w_neg)
     return impulse, work, w_neg

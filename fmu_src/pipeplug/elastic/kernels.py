@@ -72,12 +72,13 @@ def _add_work(acc, contact, work, w_neg):
 
 
 @jitable
-def _soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, start, end):
-    """One step of the pipe cells before ``end`` on the soil; returns the soil's impulse on
-    them [N s]."""
+def _soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, start, end,
+               scratch):
+    """One step of the pipe cells before ``end`` on the soil (``scratch`` for
+    :func:`pipeplug.elastic.cells.soil_cells`); returns the soil's impulse on them [N s]."""
     v_old = v1[0]
     outer, work, w_neg = soil_cells(v1, N1, 0, end, dt / coef[M1], coef[M1], dt * coef[C1],
-                                    start)
+                                    start, scratch)
     _add_work(acc, W_OUTER, work, w_neg)
     _finish_step(q, dt, v_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc, end)
     return outer
@@ -93,7 +94,8 @@ def _plug_soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, st
     j0 = v1.shape[0] - v2.shape[0]
     a1 = dt / coef[M1]
     c1 = dt * coef[C1]
-    outer, work, w_neg = soil_cells(v1, N1, 0, min(j0, end), a1, coef[M1], c1, start)
+    outer, work, w_neg = soil_cells(v1, N1, 0, min(j0, end), a1, coef[M1], c1, start,
+                                    scratch)
     _add_work(acc, W_OUTER, work, w_neg)
     outer2, inner, work_outer, work_inner, w_neg = plug_soil_cells(
         v1, N1, v2, N2, j0, end, a1, dt / coef[M2], coef[M1], coef[M2], c1, dt * coef[C2],
@@ -124,8 +126,10 @@ def run_pipe_soil(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
     n1 = v1.shape[0]
     outer = 0.0
     end = moved = n1
+    scratch = _scratch(v1)
     for i in range(n):
-        outer = _soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, 0.0, end)
+        outer = _soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, 0.0, end,
+                           scratch)
         end, moved = _next(v1, v2, n1, end, moved, i + 2 == n)
     acc[F_OUT] = outer / dt
     acc[F_IN] = 0.0
@@ -138,10 +142,11 @@ def run_pipe_soil_growth(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2,
     n1 = v1.shape[0]
     outer = 0.0
     end = moved = n1
+    scratch = _scratch(v1)
     for i in range(n):
         start = soil_start(u1[0], n1, coef[DX])
         outer = _soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, start,
-                           end)
+                           end, scratch)
         end, moved = _next(v1, v2, n1, end, moved, i + 2 == n)
     acc[F_OUT] = outer / dt
     acc[F_IN] = 0.0
@@ -153,7 +158,7 @@ def run_pipe_plug(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
     N1[0] = -q
     j0 = v1.shape[0] - v2.shape[0]
     inner = 0.0
-    scratch = _scratch(v2)
+    scratch = _scratch(v1)
     for _ in range(n):
         v_old = v1[0]
         free_cells(v1, N1, 0, j0, dt / coef[M1])
@@ -173,7 +178,7 @@ def run_pipe_plug_soil(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, a
     n1 = v1.shape[0]
     outer = inner = 0.0
     end = moved = n1
-    scratch = _scratch(v2)
+    scratch = _scratch(v1)
     for i in range(n):
         outer, inner = _plug_soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2,
                                        acc, 0.0, end, scratch)
@@ -189,7 +194,7 @@ def run_pipe_plug_soil_growth(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2
     n1 = v1.shape[0]
     outer = inner = 0.0
     end = moved = n1
-    scratch = _scratch(v2)
+    scratch = _scratch(v1)
     for i in range(n):
         start = soil_start(u1[0], n1, coef[DX])
         outer, inner = _plug_soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2,
@@ -200,9 +205,10 @@ def run_pipe_plug_soil_growth(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2
 
 
 @jitable
-def _scratch(v2):
-    """Room for the per-pair impulses and works of one step (see ``cells._pairs``)."""
-    return np.empty((2, v2.shape[0]))
+def _scratch(v1):
+    """Room for the impulses and works of one step's cells, one pass at a time (see
+    ``cells._pairs``); the pipe ``v1`` has the most cells."""
+    return np.empty((2, v1.shape[0]))
 
 
 @jitable
