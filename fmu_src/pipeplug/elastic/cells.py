@@ -1,4 +1,4 @@
-"""One internal step of the elastic rods, cell by cell (helpers the kernels inline).
+"""One internal step of the elastic rods, cell by cell (helpers the compiled kernels call).
 
 Grid (see :mod:`pipeplug.elastic.model`): a rod of ``n`` cells of length ``dx`` carries the velocity
 ``v[j]`` of cell ``j`` (its centre) and the axial force ``N[f]`` (tension positive) at face
@@ -16,6 +16,11 @@ step is a function of its velocity, the forces on its faces and its friction lim
 would give the same result again, velocity 0 and the same static reaction, and a face between
 two cells at rest keeps its force (``N + b * 0 == N``). Only the impulse sums of the step need
 every cell: the kernels take the last step of a call in full.
+
+The cells on the soil alone and the pipe-plug pairs are stepped in two passes: each cell on its
+own, its impulse and friction work stored in a scratch array; then the sums, in the cells'
+order. Without a sum carried from one cell to the next, compiled code steps several cells at
+once, and the sums are those of a single loop bit for bit.
 
 Friction work per contact and step is ``-I (v_old + v_new) / 2`` (impulse times mean velocity),
 which makes the discrete energy balance exact (see :meth:`ElasticModel.energies`). It is
@@ -62,7 +67,7 @@ def soil_cells(v, N, lo, hi, a, m, c, start, scratch):
     n = max(hi - lo, 0)
     impulses, works = scratch[0, :n], scratch[1, :n]
     _soil_pass(v[lo:lo + n], N[lo:lo + n + 1], lo, a, m, c, start, impulses, works)
-    return _sums(impulses, works, 0.0, 0.0, 0.0)
+    return _sums(impulses, works)
 
 
 @jitable
@@ -84,17 +89,15 @@ def plug_cells(v1, N1, v2, N2, j0, a1, a2, m1, m2, c2, scratch):
     """Kick the pipe cells ``j0..`` and the plug cells coupled to them, then project each pair.
 
     Pipe cell ``j0 + k`` and plug cell ``k`` share a reference section; ``scratch`` is an array
-    of shape (2, at least the plug's cells) for :func:`_pairs`. Returns the impulse of the plug on the pipe
-    [N s], the dissipated work and its negative part [J].
+    of shape (2, at least the plug's cells) for :func:`_pairs`. Returns the impulse of the plug
+    on the pipe [N s], the dissipated work and its negative part [J].
     """
-    return _pairs(v1, N1, v2, N2, j0, 0, v2.shape[0], a1, a2, m1, m2, c2, 0.0, 0.0, 0.0,
-                  scratch)
+    return _pairs(v1, N1, v2, N2, j0, 0, v2.shape[0], a1, a2, m1, m2, c2, scratch)
 
 
 @jitable
-def _pairs(v1, N1, v2, N2, j0, lo, hi, a1, a2, m1, m2, c2, impulse, work, w_neg, scratch):
-    """:func:`plug_cells` for the plug cells ``lo..hi-1``, adding to the sums ``impulse``,
-    ``work`` and ``w_neg`` (returned).
+def _pairs(v1, N1, v2, N2, j0, lo, hi, a1, a2, m1, m2, c2, scratch):
+    """:func:`plug_cells` for the plug cells ``lo..hi-1``.
 
     In two passes: the pairs, each on its own, their impulses and works kept in ``scratch``
     (shape (2, at least hi - lo)); then the sums, in the cells' order. No sum is carried from
@@ -105,13 +108,16 @@ def _pairs(v1, N1, v2, N2, j0, lo, hi, a1, a2, m1, m2, c2, impulse, work, w_neg,
     impulses, works = scratch[0, :n], scratch[1, :n]
     _pair_pass(v1[j0 + lo:j0 + lo + n], N1[j0 + lo:j0 + lo + n + 1], v2[lo:lo + n],
                N2[lo:lo + n + 1], a1, a2, m1, m2, c2, impulses, works)
-    return _sums(impulses, works, impulse, work, w_neg)
+    return _sums(impulses, works)
 
 
 @jitable
-def _sums(impulses, works, impulse, work, w_neg):
-    """Add ``impulses`` [N s] to ``impulse`` and ``works`` [J] to ``work`` or ``w_neg``
-    (:func:`_book`), in index order (the cells' order); returns the three sums."""
+def _sums(impulses, works):
+    """The sum of ``impulses`` [N s], and of ``works`` [J] split into the dissipated and the
+    reversing part (:func:`_book`), in index order (the cells' order)."""
+    impulse = 0.0
+    work = 0.0
+    w_neg = 0.0
     for k in range(impulses.shape[0]):
         impulse += impulses[k]
         work, w_neg = _book(works[k], work, w_neg)
@@ -149,10 +155,11 @@ def plug_soil_cells(v1, N1, v2, N2, j0, end, a1, a2, m1, m2, c1, c2, start, scra
     # The cells with weight 0 come first (the contact covers the far end): a loop of their own.
     hi = max(end - j0, 0)
     free = _first_in_contact(j0, hi, start)
-    inner, work_inner, w_neg = _pairs(v1, N1, v2, N2, j0, 0, free, a1, a2, m1, m2, c2,
-                                      0.0, 0.0, 0.0, scratch)
+    inner, work_inner, w_neg = _pairs(v1, N1, v2, N2, j0, 0, free, a1, a2, m1, m2, c2, scratch)
     outer = 0.0
     work_outer = 0.0
+    # One pass here: the two-contact problem tries its patterns in turn (no select for
+    # several cells at once), and both contacts add to w_neg, interleaved cell by cell.
     for k in range(free, hi):
         j = j0 + k
         p_old = v1[j]

@@ -206,8 +206,9 @@ def run_pipe_plug_soil_growth(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2
 
 @jitable
 def _scratch(v1):
-    """Room for the impulses and works of one step's cells, one pass at a time (see
-    ``cells._pairs``); the pipe ``v1`` has the most cells."""
+    """Room for the impulses and works of the cells that one call of ``soil_cells``,
+    ``plug_cells`` or ``plug_soil_cells`` steps in a pass (reused by each). The pipe ``v1`` has
+    the most cells (L2 <= L1): the loops do not check their bounds."""
     return np.empty((2, v1.shape[0]))
 
 
