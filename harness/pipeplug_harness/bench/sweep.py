@@ -3,8 +3,8 @@ single blows, and the time projected for a cluster.
 
 Usage::
 
-    python -m pipeplug_harness.bench.sweep [--million 1000000] [--chunk 50000] [--repeat 2]
-                                           [--slow-cases 40000] [--slow-chunk 2000]
+    python -m pipeplug_harness.bench.sweep [--cases 4000000] [--million 1000000] [--chunk 50000]
+                                           [--repeat 2] [--slow-cases 40000] [--slow-chunk 2000]
 
 The cases are single blows of model I (the paper's base case, 23 kN for 50 ms, run from rest
 until all is at rest), (tau1, tau2) drawn uniformly over the Fig. 2 plane (tau1 < 0.12 MPa,
@@ -31,7 +31,9 @@ Measured, in one run:
 3. per mix, the sweep on 1 and on 2 workers, alternately ``--repeat`` times (the best of each
    counts: the machine is shared): cases per second, ``c`` (seconds per case per worker), the
    speed-up T1 / T2 and the parallel efficiency T1 / (2 T2) (target: speed-up >= 1.6). The
-   batch mix's sweep is the ``--million`` run. Beside each run: the cores that the rest of the
+   batch mix runs ``--cases`` blows, about 6 s on one worker here: a run of 1 s (10^6 blows)
+   on two workers is decided as much by its start, its last chunk and any hiccup of the shared
+   machine of a tenth of a second as by the rate of the workers. Beside each run: the cores that the rest of the
    machine took meanwhile (busy CPU time of the machine, less that of this process and its
    workers, plus the time the hypervisor gave elsewhere, over the run's wall time): a 2-worker
    run is only a fair measure when that is near 0. Also ``w``: the CPU time per case of this
@@ -40,7 +42,9 @@ Measured, in one run:
    side) in the 1-worker runs. Here it shares the 2 cores with the workers, which bounds the
    speed-up by ``2 c / (c + w)``. Part of ``w`` is Dask's housekeeping, paid per second, not
    per case (``h``: this process's CPU per second with the 1-worker cluster idle);
-4. the projection for W workers of a cluster (batch mix)::
+4. ``--million`` single blows (batch mix) on 2 workers, ``--repeat`` times: the time of 10^6
+   cases on this machine, and what the model below predicts for it;
+5. the projection for W workers of a cluster (batch mix)::
 
        T(N, W) = t_start + max((N c + n s) / W, n s + N w),   n = ceil(N / B)
 
@@ -171,6 +175,13 @@ def one_against_two(specs: dict, repeat: int, folder: Path) -> dict:
     return times
 
 
+def on_two_workers(spec, repeat: int, folder: Path) -> list:
+    """Wall times [s] of ``repeat`` runs of ``spec`` on a 2-worker LocalCluster (warmed)."""
+    with dask_client(workers=2) as client:
+        _warm(client, folder)
+        return [engine_seconds(spec, client, folder / f"run{i}") for i in range(repeat)]
+
+
 def _idle_cpu(seconds: float) -> float:
     """This process's CPU seconds per second over ``seconds`` of doing nothing."""
     start, wall = _own_cpu(), time.perf_counter()
@@ -185,8 +196,10 @@ def _own_cpu() -> float:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--cases", type=int, default=4_000_000,
+                        help="cases of the batch mix's 1-vs-2 runs")
     parser.add_argument("--million", type=int, default=1_000_000,
-                        help="cases of the batch mix (its 1-vs-2 runs)")
+                        help="cases of the timed run on 2 workers (batch mix)")
     parser.add_argument("--chunk", type=int, default=50_000, help="cases per chunk (batch)")
     parser.add_argument("--slow-cases", type=int, default=40_000,
                         help="cases of the per-case mix")
@@ -198,7 +211,7 @@ def main(argv: list[str] | None = None) -> int:
     print(f"sweep benchmark, {time.strftime('%Y-%m-%d %H:%M:%S')}, {os.cpu_count()} cores, "
           f"load average {os.getloadavg()[0]:.2f} (the machine is shared: ratios from one run)",
           flush=True)
-    specs = {"batch": blow_sweep(args.million, args.chunk),
+    specs = {"batch": blow_sweep(args.cases, args.chunk),
              "per-case": blow_sweep(args.slow_cases, args.slow_chunk, mix="per-case")}
     runs = {**specs, CLIENT_WRITES: specs["batch"]}
     with tempfile.TemporaryDirectory() as tmp:
@@ -221,11 +234,12 @@ def main(argv: list[str] | None = None) -> int:
               f"({args.empty} empty chunks, 1 worker); housekeeping h = {h:.3f} cores (this "
               f"process, the cluster idle)", flush=True)
         times = one_against_two(runs, args.repeat, tmp)
+        big = blow_sweep(args.million, args.chunk)
+        t_big = min(on_two_workers(big, args.repeat, tmp / "million"))
     print(f"load average after the runs {os.getloadavg()[0]:.2f}")
     costs = {mix: _report(mix, runs[mix], times[mix], s) for mix in runs}
-    (c, w), big = costs["batch"], specs["batch"]
+    c, w = costs["batch"]
     net = max(0.0, w - h * c)                  # the client's work per case, on a core of its own
-    t_big = min(r.seconds for r in times["batch"][2])
     print(f"{big.n_cases:,} single blows (batch API) on 2 workers, chunks of {big.chunk:,}: "
           f"{t_big:.2f} s ({big.n_cases / t_big:,.0f} cases/s); the model below predicts "
           f"{_projected(big.n_cases, 2, big.chunk, c, s, net, 0.0):.2f} s with its client on "
