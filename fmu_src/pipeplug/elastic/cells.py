@@ -33,7 +33,7 @@ from ..contact import coulomb
 from ..jit import jitable
 
 __all__ = ["free_cells", "soil_cells", "plug_cells", "plug_soil_cells", "drift", "track",
-           "soil_start", "moving_end", "next_end"]
+           "soil_start", "soil_weight", "moving_end", "next_end"]
 
 # The projections are the rigid models' own (one source); compiled kernels call them too.
 one_contact = jitable(coulomb.one_contact)
@@ -55,7 +55,7 @@ def soil_cells(v, N, lo, hi, a, m, c, start, scratch):
     """Kick cells ``lo..hi-1`` touching only the soil, then project their velocities.
 
     The contact of cell ``j`` covers the part of the cell beyond ``start`` (in cells from the
-    struck end): weight ``clip(j + 1 - start, 0, 1)`` of the full-cell limit ``c`` [N s].
+    struck end): :func:`soil_weight` of the full-cell limit ``c`` [N s].
     Two passes, as in :func:`_pairs` (``scratch`` likewise).
 
     Returns
@@ -77,7 +77,7 @@ def _soil_pass(v, N, lo, a, m, c, start, impulses, works):
     ``works``."""
     for k in range(v.shape[0]):
         v_old = v[k]
-        limit = c * min(max(lo + k + 1.0 - start, 0.0), 1.0)
+        limit = c * soil_weight(lo + k, start)
         x, f = one_contact(m, v_old + a * (N[k + 1] - N[k]), limit, 0.0)
         v[k] = x
         impulses[k] = f
@@ -92,22 +92,22 @@ def plug_cells(v1, N1, v2, N2, j0, a1, a2, m1, m2, c2, scratch):
     of shape (2, at least the plug's cells) for :func:`_pairs`. Returns the impulse of the plug
     on the pipe [N s], the dissipated work and its negative part [J].
     """
-    return _pairs(v1, N1, v2, N2, j0, 0, v2.shape[0], a1, a2, m1, m2, c2, scratch)
+    return _pairs(v1, N1, v2, N2, j0, v2.shape[0], a1, a2, m1, m2, c2, scratch)
 
 
 @jitable
-def _pairs(v1, N1, v2, N2, j0, lo, hi, a1, a2, m1, m2, c2, scratch):
-    """:func:`plug_cells` for the plug cells ``lo..hi-1``.
+def _pairs(v1, N1, v2, N2, j0, hi, a1, a2, m1, m2, c2, scratch):
+    """:func:`plug_cells` for the plug cells ``0..hi-1``.
 
     In two passes: the pairs, each on its own, their impulses and works kept in ``scratch``
-    (shape (2, at least hi - lo)); then the sums, in the cells' order. No sum is carried from
+    (shape (2, at least hi)); then the sums, in the cells' order. No sum is carried from
     one pair to the next in the first pass, so compiled code projects several pairs at once
     (the pair problem has no branch that it cannot turn into a select).
     """
-    n = max(hi - lo, 0)
+    n = max(hi, 0)
     impulses, works = scratch[0, :n], scratch[1, :n]
-    _pair_pass(v1[j0 + lo:j0 + lo + n], N1[j0 + lo:j0 + lo + n + 1], v2[lo:lo + n],
-               N2[lo:lo + n + 1], a1, a2, m1, m2, c2, impulses, works)
+    _pair_pass(v1[j0:j0 + n], N1[j0:j0 + n + 1], v2[:n], N2[:n + 1], a1, a2, m1, m2, c2,
+               impulses, works)
     return _sums(impulses, works)
 
 
@@ -155,7 +155,7 @@ def plug_soil_cells(v1, N1, v2, N2, j0, end, a1, a2, m1, m2, c1, c2, start, scra
     # The cells with weight 0 come first (the contact covers the far end): a loop of their own.
     hi = max(end - j0, 0)
     free = _first_in_contact(j0, hi, start)
-    inner, work_inner, w_neg = _pairs(v1, N1, v2, N2, j0, 0, free, a1, a2, m1, m2, c2, scratch)
+    inner, work_inner, w_neg = _pairs(v1, N1, v2, N2, j0, free, a1, a2, m1, m2, c2, scratch)
     outer = 0.0
     work_outer = 0.0
     # One pass here: the two-contact problem tries its patterns in turn (no select for
@@ -164,7 +164,7 @@ def plug_soil_cells(v1, N1, v2, N2, j0, end, a1, a2, m1, m2, c1, c2, start, scra
         j = j0 + k
         p_old = v1[j]
         q_old = v2[k]
-        limit = c1 * min(max(j + 1.0 - start, 0.0), 1.0)
+        limit = c1 * soil_weight(j, start)
         x1, x2, f1, f2, _, _ = two_contacts(m1, m2, p_old + a1 * (N1[j + 1] - N1[j]),
                                             q_old + a2 * (N2[k + 1] - N2[k]), limit, c2, 0.0)
         v1[j] = x1
@@ -179,13 +179,20 @@ def plug_soil_cells(v1, N1, v2, N2, j0, end, a1, a2, m1, m2, c1, c2, start, scra
 @jitable
 def _first_in_contact(j0, hi, start):
     """The first plug cell ``k < hi`` whose pipe cell ``j0 + k`` has a soil weight above 0
-    (``j0 + k + 1 - start > 0``, as :func:`soil_cells` weighs it), else ``hi``."""
+    (:func:`soil_weight`), else ``hi``."""
     k = min(max(int(start) - j0 - 1, 0), hi)     # a guess from below, then the exact test
-    while k > 0 and j0 + k + 1.0 - start > 0.0:
+    while k > 0 and soil_weight(j0 + k, start) > 0.0:
         k -= 1
-    while k < hi and j0 + k + 1.0 - start <= 0.0:
+    while k < hi and soil_weight(j0 + k, start) <= 0.0:
         k += 1
     return k
+
+
+@jitable
+def soil_weight(j, start):
+    """The share of pipe cell ``j`` that the soil's contact covers, beyond ``start`` (in cells
+    from the struck end): ``clip(j + 1 - start, 0, 1)``."""
+    return min(max(j + 1.0 - start, 0.0), 1.0)
 
 
 @jitable
