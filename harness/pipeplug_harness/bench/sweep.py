@@ -33,15 +33,16 @@ Measured, in one run:
    speed-up T1 / T2 and the parallel efficiency T1 / (2 T2) (target: speed-up >= 1.6). The
    batch mix runs ``--cases`` blows, about 6 s on one worker here: a run of 1 s (10^6 blows)
    on two workers is decided as much by its start, its last chunk and any hiccup of the shared
-   machine of a tenth of a second as by the rate of the workers. Beside each run: the cores that the rest of the
-   machine took meanwhile (busy CPU time of the machine, less that of this process and its
-   workers, plus the time the hypervisor gave elsewhere, over the run's wall time): a 2-worker
-   run is only a fair measure when that is near 0. Also ``w``: the CPU time per case of this
-   process (the client and the LocalCluster's scheduler: each chunk's acknowledgement, or its
-   file to receive and write; its part per chunk is then counted in ``s`` too, the pessimistic
-   side) in the 1-worker runs. Here it shares the 2 cores with the workers, which bounds the
-   speed-up by ``2 c / (c + w)``. Part of ``w`` is Dask's housekeeping, paid per second, not
-   per case (``h``: this process's CPU per second with the 1-worker cluster idle);
+   machine of a tenth of a second as by the rate of the workers. Beside each run: the cores
+   that the rest of the machine took meanwhile (busy CPU time of the machine, less that of this
+   process and its workers, plus the time the hypervisor gave elsewhere, over the run's wall
+   time): a 2-worker run is only a fair measure when that is near 0. Also ``w``: the CPU time
+   per case of this process (the client and the LocalCluster's scheduler: each chunk's
+   acknowledgement, or its file to receive and write; its part per chunk is then counted in
+   ``s`` too, the pessimistic side) in the 1-worker runs. Here it shares the 2 cores with the
+   workers, which bounds the speed-up by ``2 c / (c + w)``. Part of ``w`` is Dask's
+   housekeeping, paid per second, not per case (``h``: this process's CPU per second with the
+   1-worker cluster idle);
 4. ``--million`` single blows (batch mix) on 2 workers, ``--repeat`` times: the time of 10^6
    cases on this machine, and what the model below predicts for it;
 5. the projection for W workers of a cluster (batch mix)::
