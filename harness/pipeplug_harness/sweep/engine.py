@@ -8,9 +8,11 @@ from the campaign and their indices: only the campaign, chunk numbers and result
 in this process (a fuzz run's summary); :func:`run_campaign` collects into an output folder:
 ``run_chunk`` gives a ``pyarrow.Table``, the campaign has a ``digest``, and the engine submits
 the chunks not yet in the folder (:class:`~.store.ChunkStore`: each file whole or not at all).
-A worker that sees the folder writes its chunk's file itself and sends back only the chunk's
-number and row count (a LocalCluster's workers always do); one that does not (a remote
-worker without the same file system) sends the file's bytes and the client writes them. So:
+A worker that sees the folder writes its chunk's file itself (a LocalCluster's workers always
+do): the client then finds the file there when the task has finished and fetches nothing (a
+round trip to the worker per chunk less); a worker that does not see it (a remote worker
+without the same file system) returns the file's bytes, which the client fetches and writes.
+So:
 
 * a rerun skips the finished chunks;
 * a worker that dies loses nothing: Dask runs its unfinished chunks again on another worker;
@@ -68,7 +70,7 @@ def _run_stored(campaign, c: int, files: ChunkFiles | None) -> Written | bytes:
 
 
 def map_chunks(campaign, chunks, client, collect, *, progress: bool = True,
-               on_chunk=None, skipped: int = 0, task=_run) -> ChunkRun:
+               on_chunk=None, skipped: int = 0, task=_run, fetch=None) -> ChunkRun:
     """Run ``campaign.run_chunk(c)`` for each of ``chunks`` on ``client``'s cluster and hand
     each result to ``collect(c, result)`` in this process, in the order they finish.
 
@@ -82,6 +84,9 @@ def map_chunks(campaign, chunks, client, collect, *, progress: bool = True,
     client : distributed.Client
     collect : callable
         ``collect(c, result)``: e.g. write the chunk, or add it to a summary.
+    fetch : callable, optional
+        ``fetch(c)``, asked once chunk ``c``'s task has finished: whether its result must come
+        to this process (default: always); when it says no, ``collect(c, None)``.
     progress : bool
         Show a progress bar (tqdm, on standard error) counting cases.
     on_chunk : callable, optional
@@ -110,7 +115,7 @@ def map_chunks(campaign, chunks, client, collect, *, progress: bool = True,
             if future.status == "error":
                 run.failed[c] = repr(future.exception())
             else:
-                collect(c, future.result())
+                collect(c, future.result() if fetch is None or fetch(c) else None)
                 run.written += 1
                 run.cases += campaign.chunk_cases(c)
                 bar.update(campaign.chunk_cases(c))
@@ -153,15 +158,19 @@ def run_campaign(campaign, out, client, *, fresh: bool = False, progress: bool =
     # a worker that cannot see the folder only costs the client the writing, as before.
     by_workers = []
 
-    def collect(c: int, result: Written | bytes) -> None:
-        if isinstance(result, Written):
-            assert result.chunk == c and store.done(c), (c, result)
+    def collect(c: int, result: Written | bytes | None) -> None:
+        if result is None:                  # the worker wrote it (fetch saw the file)
             by_workers.append(c)
+        elif isinstance(result, Written):   # the worker wrote a file that fetch did not see
+            raise AssertionError(f"chunk {c}: {result}, but no file at {store.path(c)}")
         else:
             store.write(c, result)
 
+    # The file of a chunk in todo appears only when a worker has written it whole; the client
+    # writes only what it fetched.
     run = map_chunks(campaign, todo, client, collect, progress=progress, on_chunk=on_chunk,
                      skipped=campaign.n_chunks - len(todo),
-                     task=partial(_run_stored, files=store.files if workers_write else None))
+                     task=partial(_run_stored, files=store.files if workers_write else None),
+                     fetch=lambda c: not store.done(c))
     run.by_workers = len(by_workers)
     return run
