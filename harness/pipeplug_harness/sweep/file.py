@@ -9,7 +9,8 @@ whole drives, same keys and defaults), what varies, and how the run is cut into 
                             # pipeplug_harness.drive.file)
     seed = 0                # random sample: the same seed gives the same cases (any workers)
     samples = 10000         # random sample: how many cases
-    chunk = 1000            # cases per task (default: 2000 blows or 100 drives)
+    chunk = 1000            # cases per task (default: 2000 blows, 100,000 blows on the batch
+                            # API, 100 drives)
     report = "none"         # after the run: "none", "domains" (the paper's Fig. 2) or
                             # "drivability" (blows to drive and refusal, with standard errors)
 
@@ -54,7 +55,7 @@ import numpy as np
 from pipeplug_harness.drive.file import DRIVE_SECTIONS
 from pipeplug_harness.scenes.file import SECTIONS, SceneError, checked_sections, read_toml
 
-from .runners import RUNNERS, runner_of
+from .runners import BATCH_CHUNK, RUNNERS, runner_of
 from .sample import DISTRIBUTIONS, GRID_KEYS, GRID_SCALES, Dimension
 
 __all__ = ["SweepSpec", "KINDS", "REPORTS", "load_sweep", "sweep_spec", "variables"]
@@ -178,13 +179,17 @@ def sweep_spec(name: str, raw: dict) -> SweepSpec:
         if n_cases is None or n_cases < 1:
             raise SceneError(f"[sweep] samples = {n_cases!r}; allowed: an integer >= 1 "
                              f"(a random sample needs it)")
-    chunk = default_chunk if head["chunk"] is None else head["chunk"]
-    if chunk < 1:
+    chunk = head["chunk"]
+    if chunk is not None and chunk < 1:
         raise SceneError(f"[sweep] chunk = {chunk!r}; allowed: >= 1")
+    spec = SweepSpec(name, kind, base, sampling, dims, head["seed"], n_cases,
+                     chunk or default_chunk, report, digest="")
+    runner = runner_of(spec)                    # decided by the cases, not by their chunking
+    if chunk is None and runner == "batch":
+        chunk = BATCH_CHUNK
+    chunk = chunk or default_chunk
     digest = _digest(kind, base, sampling, dims, head["seed"], n_cases, chunk, report)
-    spec = SweepSpec(name, kind, base, sampling, dims, head["seed"], n_cases, chunk, report,
-                     digest)
-    return dataclasses.replace(spec, runner=runner_of(spec))
+    return dataclasses.replace(spec, chunk=chunk, digest=digest, runner=runner)
 
 
 def _choice(key: str, value: str, table: dict) -> str:

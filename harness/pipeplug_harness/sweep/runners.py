@@ -13,10 +13,15 @@ from __future__ import annotations
 
 from . import batch, cases
 
-__all__ = ["RUNNERS", "BATCH_RULES", "runner_of", "batch_misses", "described"]
+__all__ = ["RUNNERS", "BATCH_RULES", "BATCH_CHUNK", "runner_of", "batch_misses", "described"]
 
 #: runner -> run_chunk(spec, c) -> pyarrow.Table
 RUNNERS = {"batch": batch.run_chunk, "case": cases.run_chunk}
+
+#: cases per task of a sweep the batch API runs when its file sets no ``chunk``: a few
+#: microseconds a blow make a task of 0.1-0.3 s; the per-case default (2000) would make tasks of
+#: a few milliseconds, less than Dask spends on a task (about 8 ms of CPU on a 2-core VM)
+BATCH_CHUNK = 100_000
 
 #: what a sweep needs for the batch API -> its test on the sweep (:class:`~.file.SweepSpec`)
 BATCH_RULES = {

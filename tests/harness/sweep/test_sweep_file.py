@@ -94,3 +94,20 @@ def test_the_core_checks_the_corners_before_any_work():
         check_sweep(spec)
     ok = _spec(grid={"tau1": {"start": 0.0, "stop": 1e5, "num": 2000}})
     assert "corners" in check_sweep(ok)
+
+
+@pytest.mark.parametrize("raw, runner, chunk", [
+    # single rigid exact blows from rest, no mode sequence: the batch API, 100,000 a task
+    ({"model": {"elastic": False}}, "batch", 100_000),
+    ({"model": {"elastic": False}, "output": {"modes": True}}, "case", 2000),
+    ({"model": {"elastic": False, "solver": "fd"}}, "case", 2000),
+    ({"model": {"elastic": False}, "sweep": {"chunk": 7}}, "batch", 7),
+    ({"model": {"elastic": False, "solver": "fd"}, "sweep": {"chunk": 7}}, "case", 7),
+])
+def test_the_default_chunk_follows_the_runner(raw, runner, chunk):
+    """Without a chunk in the file a task holds 100,000 blows on the batch API (a few
+    microseconds each) and 2000 blows built one model each (hundreds of microseconds each)."""
+    spec = _spec(grid={"tau1": [1e4, 2e4]}, **raw)
+    assert (spec.runner, spec.chunk) == (runner, chunk)
+    assert spec.digest == _spec(grid={"tau1": [1e4, 2e4]},
+                                **{**raw, "sweep": {"chunk": chunk}}).digest
