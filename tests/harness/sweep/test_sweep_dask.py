@@ -8,7 +8,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 import pytest
 
-from pipeplug_harness.sweep.cluster import dask_client
+from pipeplug_harness.sweep.cluster import QUIET, dask_client
 from pipeplug_harness.sweep.engine import run_campaign
 from pipeplug_harness.sweep.file import load_sweep, sweep_spec
 from pipeplug_harness.sweep.store import StoreError, read_folder
@@ -44,6 +44,17 @@ step = 0.01
 def client():
     with dask_client(workers=2) as c:
         yield c
+
+
+def test_the_workers_run_with_dasks_self_watching_slowed(client):
+    """The settings of this process reach the worker processes through their nannies."""
+    def settings():
+        import dask
+        return [dask.config.get(k) for k in QUIET]
+    held = client.run(settings)
+    assert len(held) == 2
+    assert all(values == list(QUIET.values()) for values in held.values()), held
+    assert QUIET["distributed.worker.profile.enabled"] is False
 
 
 def _sweep(tmp_path, samples=60, chunk=6, name="drives"):
