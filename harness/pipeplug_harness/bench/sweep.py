@@ -4,7 +4,7 @@ single blows, and the time projected for a cluster.
 Usage::
 
     python -m pipeplug_harness.bench.sweep [--cases 4000000] [--million 1000000] [--chunk 50000]
-                                           [--repeat 2] [--slow-cases 40000] [--slow-chunk 2000]
+                                           [--repeat 3] [--slow-cases 40000] [--slow-chunk 2000]
 
 The cases are single blows of model I (the paper's base case, 23 kN for 50 ms, run from rest
 until all is at rest), (tau1, tau2) drawn uniformly over the Fig. 2 plane (tau1 < 0.12 MPa,
@@ -20,14 +20,18 @@ tau2 < 0.08 MPa), in two mixes:
 
 The workers of the LocalCluster see the output folder, so they write the chunk files; the batch
 mix is also run as ``batch, client writes`` (each chunk's bytes sent to the client, which
-writes them: what a cluster whose workers do not see the folder does).
+writes them: what a cluster whose workers do not see the folder does), and as ``batch, plain
+processes``: its chunks run, encoded and written by 1 and by 2 plain processes (a process pool,
+no Dask), what this machine itself gives two processes against one at the time; the engine's
+speed-up is printed as a fraction of it too (on this shared virtual machine two plain processes
+gave 1.57 to 2.15 times one, from one minute to the next).
 
 Measured, in one run:
 
 1. per mix, ``c0``: a chunk's cost per case in this process, its table encoded as Parquet (what
    a worker does), and the cost per case of writing a chunk's file;
 2. ``s``: the engine's cost per chunk: empty chunks through a one-worker LocalCluster (the
-   scheduler's round trip, the worker writing the file, the acknowledgement);
+   scheduler's round trips, the worker writing the file, the client seeing it);
 3. per mix, the sweep on 1 and on 2 workers, alternately ``--repeat`` times (the best of each
    counts: the machine is shared): cases per second, ``c`` (seconds per case per worker), the
    speed-up T1 / T2 and the parallel efficiency T1 / (2 T2) (target: speed-up >= 1.6). The
@@ -38,7 +42,7 @@ Measured, in one run:
    process and its workers, plus the time the hypervisor gave elsewhere, over the run's wall
    time): a 2-worker run is only a fair measure when that is near 0. Also ``w``: the CPU time
    per case of this process (the client and the LocalCluster's scheduler: each chunk's
-   acknowledgement, or its file to receive and write; its part per chunk is then counted in
+   completion, or its file to receive and write; its part per chunk is then counted in
    ``s`` too, the pessimistic side) in the 1-worker runs. Here it shares the 2 cores with the
    workers, which bounds the speed-up by ``2 c / (c + w)``. Part of ``w`` is Dask's
    housekeeping, paid per second, not per case (``h``: this process's CPU per second with the
@@ -63,6 +67,8 @@ import math
 import os
 import tempfile
 import time
+from contextlib import contextmanager
+from functools import partial
 from pathlib import Path
 from typing import NamedTuple
 
@@ -71,7 +77,7 @@ import pyarrow as pa
 from pipeplug_harness.sweep.cluster import dask_client
 from pipeplug_harness.sweep.engine import run_campaign
 from pipeplug_harness.sweep.file import sweep_spec
-from pipeplug_harness.sweep.store import parquet_bytes
+from pipeplug_harness.sweep.store import ChunkFiles, parquet_bytes
 
 _PLANE = {"tau1": {"dist": "uniform", "low": 0.0, "high": 1.2e5},
           "tau2": {"dist": "uniform", "low": 0.0, "high": 8.0e4}}
@@ -79,6 +85,8 @@ _PLANE = {"tau1": {"dist": "uniform", "low": 0.0, "high": 1.2e5},
 MIXES = {"batch": {"modes": False}, "per-case": {"modes": True}}
 #: the batch mix with every chunk's bytes sent to the client (which writes them)
 CLIENT_WRITES = "batch, client writes"
+#: the batch mix's chunks run and written by plain processes, no Dask: the machine's own scaling
+PLAIN = "batch, plain processes"
 
 
 def blow_sweep(cases: int, chunk: int, seed: int = 1, mix: str = "batch"):
@@ -160,20 +168,63 @@ class Run(NamedTuple):
 
 def one_against_two(specs: dict, repeat: int, folder: Path) -> dict:
     """mix -> {workers: [:class:`Run` of each run]}: 1 and 2 workers alternately, ``repeat``
-    times (a fresh LocalCluster each time, warmed first)."""
-    times = {mix: {1: [], 2: []} for mix in specs}
+    times (a fresh LocalCluster each time, warmed first); after each cluster, the batch mix in
+    as many plain processes (:data:`PLAIN`)."""
+    times = {mix: {1: [], 2: []} for mix in [*specs, PLAIN]}
     for _ in range(repeat):
         for w in (1, 2):
             with dask_client(workers=w) as client:
                 _warm(client, folder)
                 for mix, spec in specs.items():
-                    (busy, ours), mine = _cpu_seconds(), _own_cpu()
-                    seconds = engine_seconds(spec, client, folder / mix.replace(" ", "_"),
-                                             workers_write=mix != CLIENT_WRITES)
-                    (busy2, ours2), mine2 = _cpu_seconds(), _own_cpu()
-                    others = max(0.0, (busy2 - busy) - (ours2 - ours)) / seconds
-                    times[mix][w].append(Run(seconds, others, mine2 - mine))
+                    times[mix][w].append(_timed(partial(
+                        engine_seconds, spec, client, folder / mix.replace(" ", "_"),
+                        workers_write=mix != CLIENT_WRITES)))
+            with plain_pool(w) as pool:
+                times[PLAIN][w].append(_timed(partial(plain_seconds, pool, specs["batch"],
+                                                      folder / "plain")))
     return times
+
+
+def _timed(run) -> Run:
+    """``run()`` (it returns its wall time) with the cores the rest of the machine took."""
+    (busy, ours), mine = _cpu_seconds(), _own_cpu()
+    seconds = run()
+    (busy2, ours2), mine2 = _cpu_seconds(), _own_cpu()
+    others = max(0.0, (busy2 - busy) - (ours2 - ours)) / seconds
+    return Run(seconds, others, mine2 - mine)
+
+
+@contextmanager
+def plain_pool(processes: int):
+    """A pool of ``processes`` plain processes, each started and warm (no Dask)."""
+    from concurrent.futures import ProcessPoolExecutor
+    from multiprocessing import get_context
+    with ProcessPoolExecutor(processes, mp_context=get_context("spawn")) as pool:
+        list(pool.map(_warm_plain, [blow_sweep(400, 100, seed=9)] * processes))
+        yield pool
+
+
+def _warm_plain(spec) -> None:
+    spec.run_chunk(0)
+    time.sleep(0.5)                 # hold this process so that the pool starts the others
+
+
+def plain_seconds(pool, spec, folder: Path) -> float:
+    """Wall time [s] of ``spec``'s chunks run and written by ``pool``'s processes, each
+    doing with a chunk what a worker does: what the machine itself gives."""
+    folder.mkdir(exist_ok=True)
+    start = time.perf_counter()
+    done = list(pool.map(_run_and_write, [spec] * spec.n_chunks, range(spec.n_chunks),
+                         [folder] * spec.n_chunks))
+    seconds = time.perf_counter() - start
+    assert done == list(range(spec.n_chunks))
+    return seconds
+
+
+def _run_and_write(spec, c: int, folder: Path) -> int:
+    """In a plain process: run chunk ``c``, encode it, write its file."""
+    ChunkFiles(folder, 6, "plain").write_table(c, spec.run_chunk(c))
+    return c
 
 
 def on_two_workers(spec, repeat: int, folder: Path) -> list:
@@ -206,7 +257,7 @@ def main(argv: list[str] | None = None) -> int:
                         help="cases of the per-case mix")
     parser.add_argument("--slow-chunk", type=int, default=2000,
                         help="cases per chunk (per-case)")
-    parser.add_argument("--repeat", type=int, default=2, help="alternate 1- and 2-worker runs")
+    parser.add_argument("--repeat", type=int, default=3, help="alternate 1- and 2-worker runs")
     parser.add_argument("--empty", type=int, default=200, help="empty chunks timed for s")
     args = parser.parse_args(argv)
     print(f"sweep benchmark, {time.strftime('%Y-%m-%d %H:%M:%S')}, {os.cpu_count()} cores, "
@@ -239,6 +290,11 @@ def main(argv: list[str] | None = None) -> int:
         t_big = min(on_two_workers(big, args.repeat, tmp / "million"))
     print(f"load average after the runs {os.getloadavg()[0]:.2f}")
     costs = {mix: _report(mix, runs[mix], times[mix], s) for mix in runs}
+    plain = _speedup(times[PLAIN])
+    _print_runs(PLAIN, specs["batch"], times[PLAIN])
+    print(f"the machine's own scaling (plain processes, same chunks, no Dask): {plain:.2f}; "
+          f"the engine's speed-up is {_speedup(times['batch']) / plain:.0%} of it (batch), "
+          f"{_speedup(times[CLIENT_WRITES]) / plain:.0%} (client writes)", flush=True)
     c, w = costs["batch"]
     net = max(0.0, w - h * c)                  # the client's work per case, on a core of its own
     print(f"{big.n_cases:,} single blows (batch API) on 2 workers, chunks of {big.chunk:,}: "
@@ -254,15 +310,9 @@ def _report(mix: str, spec, times: dict, s: float) -> tuple[float, float]:
     """Print a mix's rates, speed-up and efficiency; return ``c``, seconds per case per worker,
     and ``w``, this process's CPU seconds per case (both from the best 1-worker run)."""
     n = spec.n_cases
-    for workers, runs in times.items():
-        best = min(r.seconds for r in runs)
-        print(f"{mix}, {workers} worker(s): {n:,} cases in {spec.n_chunks} chunks of "
-              f"{spec.chunk:,}: " + ", ".join(f"{r.seconds:.2f} s ({r.others:.2f})" for r in runs)
-              + f" (in brackets: cores taken by the rest of the machine); best "
-              f"{n / best:,.0f} cases/s, {n / best / workers:,.0f} cases/s per worker",
-              flush=True)
-    one, two = (min(times[k], key=lambda r: r.seconds) for k in (1, 2))
-    c, w, speedup = one.seconds / n, one.client / n, one.seconds / two.seconds
+    _print_runs(mix, spec, times)
+    one = min(times[1], key=lambda r: r.seconds)
+    c, w, speedup = one.seconds / n, one.client / n, _speedup(times)
     print(f"{mix}: c = {c * 1e6:.2f} us per case per worker, client and scheduler w = "
           f"{w * 1e6:.2f} us CPU per case (1 worker); a chunk's work {spec.chunk * c * 1e3:.0f} "
           f"ms against s = {s * 1e3:.2f} ms; 2 workers against 1: speed-up {speedup:.2f} "
@@ -270,6 +320,22 @@ def _report(mix: str, spec, times: dict, s: float) -> tuple[float, float]:
           f"{100 * speedup / 2:.0f} %; the client sharing the 2 cores bounds it at "
           f"{2 * c / (c + w):.2f}", flush=True)
     return c, w
+
+
+def _print_runs(mix: str, spec, times: dict) -> None:
+    n = spec.n_cases
+    for workers, runs in times.items():
+        best = min(r.seconds for r in runs)
+        print(f"{mix}, {workers} worker(s): {n:,} cases in {spec.n_chunks} chunks of "
+              f"{spec.chunk:,}: " + ", ".join(f"{r.seconds:.2f} s ({r.others:.2f})" for r in runs)
+              + f" (in brackets: cores taken by the rest of the machine); best "
+              f"{n / best:,.0f} cases/s, {n / best / workers:,.0f} cases/s per worker",
+              flush=True)
+
+
+def _speedup(times: dict) -> float:
+    """Best 1-worker time over best 2-worker time."""
+    return min(r.seconds for r in times[1]) / min(r.seconds for r in times[2])
 
 
 def _projected(n: int, w: int, b: int, c: float, s: float, write: float,
