@@ -3,8 +3,8 @@ single blows, and the time projected for a cluster.
 
 Usage::
 
-    python -m pipeplug_harness.bench.sweep [--cases 4000000] [--million 1000000] [--chunk 50000]
-                                           [--repeat 3] [--slow-cases 40000] [--slow-chunk 2000]
+    python -m pipeplug_harness.bench.sweep [--cases 4000000] [--million 1000000] [--chunk 100000]
+                                           [--repeat 5] [--slow-cases 40000] [--slow-chunk 2000]
 
 The cases are single blows of model I (the paper's base case, 23 kN for 50 ms, run from rest
 until all is at rest), (tau1, tau2) drawn uniformly over the Fig. 2 plane (tau1 < 0.12 MPa,
@@ -12,11 +12,11 @@ tau2 < 0.08 MPa), in two mixes:
 
 * ``batch``: the sweep as written, run by the core's batch API, one call per chunk (what every
   single-blow sweep wanting no mode sequence runs): a few microseconds per case, so a chunk
-  must hold many cases (``--chunk``, ~0.1 s of work) for the engine's cost per chunk not to
-  matter;
+  must hold many cases (``--chunk``, by default what a sweep file without ``chunk`` gets,
+  0.1-0.3 s of work) for the engine's cost per chunk not to matter;
 * ``per-case``: the same blows with their mode sequences wanted (``[output] modes = true``, as
   for Fig. 2): one model per case, a few hundred microseconds each, chunks of
-  ``--slow-chunk``.
+  ``--slow-chunk`` (by default, too, a sweep file's).
 
 The workers of the LocalCluster see the output folder, so they write the chunk files; the batch
 mix is also run as ``batch, client writes`` (each chunk's bytes sent to the client, which
@@ -32,9 +32,15 @@ Measured, in one run:
    a worker does), and the cost per case of writing a chunk's file;
 2. ``s``: the engine's cost per chunk: empty chunks through a one-worker LocalCluster (the
    scheduler's round trips, the worker writing the file, the client seeing it);
-3. per mix, the sweep on 1 and on 2 workers, alternately ``--repeat`` times (the best of each
-   counts: the machine is shared): cases per second, ``c`` (seconds per case per worker), the
-   speed-up T1 / T2 and the parallel efficiency T1 / (2 T2) (target: speed-up >= 1.6). The
+3. per mix, the sweep on 1 and on 2 workers, in ``--repeat`` pairs of runs side by side (a
+   LocalCluster of each size up throughout): cases per second, ``c`` (seconds per case per
+   worker, from the best 1-worker run), the speed-up T1 / T2 and the parallel efficiency
+   T1 / (2 T2) (target: speed-up >= 1.6). The speed-up is the median over the pairs: the
+   speed of this shared virtual machine's cores swings by a third from one run to the next (a
+   plain process's time per case, with nothing else running here), more than the engine's
+   overhead; the two runs of a pair see much the same machine, and the median leaves out the
+   pair that one swing decided. The range of the pairs and the best run against the best run
+   are printed beside it. The
    batch mix runs ``--cases`` blows, about 6 s on one worker here: a run of 1 s (10^6 blows)
    on two workers is decided as much by its start, its last chunk and any hiccup of the shared
    machine of a tenth of a second as by the rate of the workers. Beside each run: the cores
@@ -65,9 +71,10 @@ from __future__ import annotations
 import argparse
 import math
 import os
+import statistics
 import tempfile
 import time
-from contextlib import contextmanager
+from contextlib import ExitStack, contextmanager
 from functools import partial
 from pathlib import Path
 from typing import NamedTuple
@@ -77,6 +84,7 @@ import pyarrow as pa
 from pipeplug_harness.sweep.cluster import dask_client
 from pipeplug_harness.sweep.engine import run_campaign
 from pipeplug_harness.sweep.file import sweep_spec
+from pipeplug_harness.sweep.runners import BATCH_CHUNK
 from pipeplug_harness.sweep.store import ChunkFiles, parquet_bytes
 
 _PLANE = {"tau1": {"dist": "uniform", "low": 0.0, "high": 1.2e5},
@@ -167,20 +175,26 @@ class Run(NamedTuple):
 
 
 def one_against_two(specs: dict, repeat: int, folder: Path) -> dict:
-    """mix -> {workers: [:class:`Run` of each run]}: 1 and 2 workers alternately, ``repeat``
-    times (a fresh LocalCluster each time, warmed first); after each cluster, the batch mix in
-    as many plain processes (:data:`PLAIN`)."""
+    """mix -> {workers: [:class:`Run` of each run]}: ``repeat`` pairs of runs, one on 1 worker
+    and one on 2 next to each other (their order alternating), each mix in turn and then the
+    batch mix in plain processes (:data:`PLAIN`). Both LocalClusters and both pools stay up
+    throughout (warmed first; an idle one takes about 0.01 of a core), so that the two runs of
+    a pair are minutes apart from no other pair's."""
     times = {mix: {1: [], 2: []} for mix in [*specs, PLAIN]}
-    for _ in range(repeat):
-        for w in (1, 2):
-            with dask_client(workers=w) as client:
-                _warm(client, folder)
-                for mix, spec in specs.items():
+    with ExitStack() as stack:
+        clients = {w: stack.enter_context(dask_client(workers=w)) for w in (1, 2)}
+        pools = {w: stack.enter_context(plain_pool(w)) for w in (1, 2)}
+        for client in clients.values():
+            _warm(client, folder)
+        for i in range(repeat):
+            order = (1, 2) if i % 2 == 0 else (2, 1)
+            for mix, spec in specs.items():
+                for w in order:
                     times[mix][w].append(_timed(partial(
-                        engine_seconds, spec, client, folder / mix.replace(" ", "_"),
+                        engine_seconds, spec, clients[w], folder / mix.replace(" ", "_"),
                         workers_write=mix != CLIENT_WRITES)))
-            with plain_pool(w) as pool:
-                times[PLAIN][w].append(_timed(partial(plain_seconds, pool, specs["batch"],
+            for w in order:
+                times[PLAIN][w].append(_timed(partial(plain_seconds, pools[w], specs["batch"],
                                                       folder / "plain")))
     return times
 
@@ -252,12 +266,13 @@ def main(argv: list[str] | None = None) -> int:
                         help="cases of the batch mix's 1-vs-2 runs")
     parser.add_argument("--million", type=int, default=1_000_000,
                         help="cases of the timed run on 2 workers (batch mix)")
-    parser.add_argument("--chunk", type=int, default=50_000, help="cases per chunk (batch)")
+    parser.add_argument("--chunk", type=int, default=BATCH_CHUNK,
+                        help="cases per chunk (batch; default: a batch sweep's)")
     parser.add_argument("--slow-cases", type=int, default=40_000,
                         help="cases of the per-case mix")
     parser.add_argument("--slow-chunk", type=int, default=2000,
                         help="cases per chunk (per-case)")
-    parser.add_argument("--repeat", type=int, default=3, help="alternate 1- and 2-worker runs")
+    parser.add_argument("--repeat", type=int, default=5, help="pairs of 1- and 2-worker runs")
     parser.add_argument("--empty", type=int, default=200, help="empty chunks timed for s")
     args = parser.parse_args(argv)
     print(f"sweep benchmark, {time.strftime('%Y-%m-%d %H:%M:%S')}, {os.cpu_count()} cores, "
@@ -292,7 +307,8 @@ def main(argv: list[str] | None = None) -> int:
     costs = {mix: _report(mix, runs[mix], times[mix], s) for mix in runs}
     plain = _speedup(times[PLAIN])
     _print_runs(PLAIN, specs["batch"], times[PLAIN])
-    print(f"the machine's own scaling (plain processes, same chunks, no Dask): {plain:.2f}; "
+    print(f"the machine's own scaling (plain processes, same chunks, no Dask): "
+          f"{_speedups(times[PLAIN])}; "
           f"the engine's speed-up is {_speedup(times['batch']) / plain:.0%} of it (batch), "
           f"{_speedup(times[CLIENT_WRITES]) / plain:.0%} (client writes)", flush=True)
     c, w = costs["batch"]
@@ -315,7 +331,7 @@ def _report(mix: str, spec, times: dict, s: float) -> tuple[float, float]:
     c, w, speedup = one.seconds / n, one.client / n, _speedup(times)
     print(f"{mix}: c = {c * 1e6:.2f} us per case per worker, client and scheduler w = "
           f"{w * 1e6:.2f} us CPU per case (1 worker); a chunk's work {spec.chunk * c * 1e3:.0f} "
-          f"ms against s = {s * 1e3:.2f} ms; 2 workers against 1: speed-up {speedup:.2f} "
+          f"ms against s = {s * 1e3:.2f} ms; 2 workers against 1: speed-up {_speedups(times)} "
           f"(target >= 1.6: {'met' if speedup >= 1.6 else 'NOT met'}), parallel efficiency "
           f"{100 * speedup / 2:.0f} %; the client sharing the 2 cores bounds it at "
           f"{2 * c / (c + w):.2f}", flush=True)
@@ -334,8 +350,20 @@ def _print_runs(mix: str, spec, times: dict) -> None:
 
 
 def _speedup(times: dict) -> float:
-    """Best 1-worker time over best 2-worker time."""
-    return min(r.seconds for r in times[1]) / min(r.seconds for r in times[2])
+    """The median over pairs of (1-worker time / 2-worker time), each pair run side by side."""
+    return statistics.median(_ratios(times))
+
+
+def _ratios(times: dict) -> list:
+    return [one.seconds / two.seconds for one, two in zip(times[1], times[2], strict=True)]
+
+
+def _speedups(times: dict) -> str:
+    """The speed-up in words: the median of the pairs, their range, best against best."""
+    ratios = _ratios(times)
+    best = min(r.seconds for r in times[1]) / min(r.seconds for r in times[2])
+    return (f"{_speedup(times):.2f} (median of {len(ratios)} pairs run side by side; pairs "
+            f"{min(ratios):.2f}-{max(ratios):.2f}; best run against best run {best:.2f})")
 
 
 def _projected(n: int, w: int, b: int, c: float, s: float, write: float,

@@ -61,8 +61,9 @@ def _run(campaign, c: int):
 
 
 def _run_stored(campaign, c: int, files: ChunkFiles | None) -> Written | bytes:
-    """On a worker: run chunk ``c``; write its file if this process sees the folder (only the
-    acknowledgement travels), else return the file's bytes for the client to write."""
+    """On a worker: run chunk ``c``; write its file if this process sees the folder (the
+    acknowledgement stays here: the client sees the file), else return the file's bytes for
+    the client to write."""
     table = campaign.run_chunk(c)
     if files is not None and files.visible():
         return files.write_table(c, table)
