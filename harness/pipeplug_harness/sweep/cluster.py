@@ -48,7 +48,10 @@ def dask_client(scheduler: str | None = None, workers: int | None = None):
                 yield client
             return
         n = workers or os.cpu_count() or 1
+        # No dashboard; the scheduler's HTTP routes (health, metrics) still listen, on a free
+        # port of the loopback rather than on 8787, which a user's own cluster may hold.
         with LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                          dashboard_address=None, silence_logs=logging.ERROR) as cluster, \
+                          dashboard_address=None, silence_logs=logging.ERROR,
+                          scheduler_kwargs={"dashboard_address": "127.0.0.1:0"}) as cluster, \
                 Client(cluster) as client:
             yield client
