@@ -36,7 +36,7 @@ Measured, in one run:
    LocalCluster of each size up throughout): cases per second, ``c`` (seconds per case per
    worker, from the best 1-worker run), the speed-up T1 / T2 and the parallel efficiency
    T1 / (2 T2) (target: speed-up >= 1.6). The speed-up is the median over the pairs: the
-   speed of this shared virtual machine's cores swings by a third from one run to the next (a
+   speed of this shared virtual machine's cores swings by up to a half from one run to the next (a
    plain process's time per case, with nothing else running here), more than the engine's
    overhead; the two runs of a pair see much the same machine, and the median leaves out the
    pair that one swing decided. The range of the pairs and the best run against the best run
