@@ -9,10 +9,10 @@ in this process (a fuzz run's summary); :func:`run_campaign` collects into an ou
 ``run_chunk`` gives a ``pyarrow.Table``, the campaign has a ``digest``, and the engine submits
 the chunks not yet in the folder (:class:`~.store.ChunkStore`: each file whole or not at all).
 A worker that sees the folder writes its chunk's file itself (a LocalCluster's workers always
-do): the client then finds the file there when the task has finished and fetches nothing (a
-round trip to the worker per chunk less); a worker that does not see it (a remote worker
-without the same file system) returns the file's bytes, which the client fetches and writes.
-So:
+do) and its task returns an acknowledgement, which stays on the worker: the scheduler tells the
+client a finished task's result type, so the client fetches nothing (a round trip to the worker
+per chunk less); a worker that does not see it (a remote worker without the same file system)
+returns the file's bytes, which the client fetches and writes. So:
 
 * a rerun skips the finished chunks;
 * a worker that dies loses nothing: Dask runs its unfinished chunks again on another worker;
@@ -86,8 +86,9 @@ def map_chunks(campaign, chunks, client, collect, *, progress: bool = True,
     collect : callable
         ``collect(c, result)``: e.g. write the chunk, or add it to a summary.
     fetch : callable, optional
-        ``fetch(c)``, asked once chunk ``c``'s task has finished: whether its result must come
-        to this process (default: always); when it says no, ``collect(c, None)``.
+        ``fetch(c, kind)``, asked once chunk ``c``'s task has finished, ``kind`` the type of its
+        result (None if unknown): whether the result must come to this process (default:
+        always); when it says no, ``collect(c, None)``.
     progress : bool
         Show a progress bar (tqdm, on standard error) counting cases.
     on_chunk : callable, optional
@@ -116,7 +117,8 @@ def map_chunks(campaign, chunks, client, collect, *, progress: bool = True,
             if future.status == "error":
                 run.failed[c] = repr(future.exception())
             else:
-                collect(c, future.result() if fetch is None or fetch(c) else None)
+                wanted = fetch is None or fetch(c, future.type)
+                collect(c, future.result() if wanted else None)
                 run.written += 1
                 run.cases += campaign.chunk_cases(c)
                 bar.update(campaign.chunk_cases(c))
@@ -160,18 +162,17 @@ def run_campaign(campaign, out, client, *, fresh: bool = False, progress: bool =
     by_workers = []
 
     def collect(c: int, result: Written | bytes | None) -> None:
-        if result is None:                  # the worker wrote it (fetch saw the file)
+        if result is None or isinstance(result, Written):   # the worker wrote the file
             by_workers.append(c)
-        elif isinstance(result, Written):   # the worker wrote a file that fetch did not see
-            raise AssertionError(f"chunk {c}: {result}, but no file at {store.path(c)}")
         else:
             store.write(c, result)
 
-    # The file of a chunk in todo appears only when a worker has written it whole; the client
-    # writes only what it fetched.
+    # Decided by what the task returned, not by looking for the file: a file that a stale or
+    # concurrent writer left is overwritten with the bytes, and a file system that shows new
+    # files late (NFS) does not matter.
     run = map_chunks(campaign, todo, client, collect, progress=progress, on_chunk=on_chunk,
                      skipped=campaign.n_chunks - len(todo),
                      task=partial(_run_stored, files=store.files if workers_write else None),
-                     fetch=lambda c: not store.done(c))
+                     fetch=lambda c, kind: kind is not Written)
     run.by_workers = len(by_workers)
     return run
