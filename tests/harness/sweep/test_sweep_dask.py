@@ -8,7 +8,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 import pytest
 
-from pipeplug_harness.sweep.cluster import QUIET, dask_client
+from pipeplug_harness.sweep.cluster import dask_client
 from pipeplug_harness.sweep.engine import run_campaign
 from pipeplug_harness.sweep.file import load_sweep, sweep_spec
 from pipeplug_harness.sweep.store import StoreError, read_folder
@@ -47,14 +47,16 @@ def client():
 
 
 def test_the_workers_run_with_dasks_self_watching_slowed(client):
-    """The settings of this process reach the worker processes through their nannies."""
-    def settings():
-        import dask
-        return [dask.config.get(k) for k in QUIET]
-    held = client.run(settings)
+    """The settings of this process reach the worker processes through their nannies: each
+    worker's periodic callbacks (Dask's defaults: profiler every 10 ms, event-loop tick every
+    20 ms, memory monitor every 100 ms, system monitor every 500 ms)."""
+    def periods(dask_worker):
+        return {k: pc.callback_time for k, pc in dask_worker.periodic_callbacks.items()}
+    held = client.run(periods)
     assert len(held) == 2
-    assert all(values == list(QUIET.values()) for values in held.values()), held
-    assert QUIET["distributed.worker.profile.enabled"] is False
+    for every in held.values():
+        assert "profile" not in every and "profile-cycle" not in every, every
+        assert (every["tick"], every["memory_monitor"], every["monitor"]) == (1000, 1000, 2000)
 
 
 def _sweep(tmp_path, samples=60, chunk=6, name="drives"):
@@ -84,8 +86,14 @@ def test_same_results_in_process_on_two_workers_and_on_one(client, tmp_path, pip
     assert (tmp_path / "one.png").stat().st_size > 10_000
 
 
-def test_a_batch_sweep_on_two_workers_is_the_sweep_run_here(client, tmp_path):
-    """Single blows on the core's batch API (one call per chunk) through the engine."""
+def test_a_batch_sweep_on_two_workers_is_the_sweep_run_here(client, tmp_path, monkeypatch):
+    """Single blows on the core's batch API (one call per chunk) through the engine; the
+    client fetches a chunk's result only when the worker sent the file's bytes."""
+    from distributed import Future
+    fetched = []
+    result = Future.result
+    monkeypatch.setattr(Future, "result", lambda f, *a, **k: fetched.append(f.key)
+                        or result(f, *a, **k))
     spec = sweep_spec("blows", {
         "sweep": {"samples": 3000, "seed": 4, "chunk": 500}, "model": {"elastic": False},
         "random": {"tau1": {"dist": "uniform", "low": 1e3, "high": 1.2e5},
@@ -93,9 +101,9 @@ def test_a_batch_sweep_on_two_workers_is_the_sweep_run_here(client, tmp_path):
     assert spec.runner == "batch"
     run = run_campaign(spec, tmp_path / "out", client, progress=False)
     assert run.complete and run.written == run.by_workers == 6 and not run.failed
-    assert read_folder(tmp_path / "out").equals(_reference(spec))
+    assert read_folder(tmp_path / "out").equals(_reference(spec)) and not fetched
     sent = run_campaign(spec, tmp_path / "sent", client, progress=False, workers_write=False)
-    assert sent.complete and sent.written == 6 and sent.by_workers == 0
+    assert sent.complete and sent.written == 6 and sent.by_workers == 0 and len(fetched) == 6
     for mine, theirs in zip(sorted((tmp_path / "sent").glob("part-*")),
                             sorted((tmp_path / "out").glob("part-*")), strict=True):
         assert mine.read_bytes() == theirs.read_bytes()         # the same files, byte for byte
