@@ -4,7 +4,7 @@ single blows, and the time projected for a cluster.
 Usage::
 
     python -m pipeplug_harness.bench.sweep [--cases 4000000] [--million 1000000] [--chunk 100000]
-                                           [--repeat 5] [--slow-cases 40000] [--slow-chunk 2000]
+                                           [--repeat 6] [--slow-cases 40000] [--slow-chunk 2000]
 
 The cases are single blows of model I (the paper's base case, 23 kN for 50 ms, run from rest
 until all is at rest), (tau1, tau2) drawn uniformly over the Fig. 2 plane (tau1 < 0.12 MPa,
@@ -51,8 +51,8 @@ Measured, in one run:
    completion, or its file to receive and write; its part per chunk is then counted in
    ``s`` too, the pessimistic side) in the 1-worker runs. Here it shares the 2 cores with the
    workers, which bounds the speed-up by ``2 c / (c + w)``. Part of ``w`` is Dask's
-   housekeeping, paid per second, not per case (``h``: this process's CPU per second with the
-   1-worker cluster idle);
+   housekeeping, paid per second, not per case (``h``: this process's CPU per second with both
+   clusters and both pools up and idle, as during those runs);
 4. ``--million`` single blows (batch mix) on 2 workers, ``--repeat`` times: the time of 10^6
    cases on this machine, and what the model below predicts for it;
 5. the projection for W workers of a cluster (batch mix)::
@@ -174,18 +174,21 @@ class Run(NamedTuple):
     client: float         #: CPU seconds of this process (client and scheduler)
 
 
-def one_against_two(specs: dict, repeat: int, folder: Path) -> dict:
+def one_against_two(specs: dict, repeat: int, folder: Path) -> tuple[dict, float]:
     """mix -> {workers: [:class:`Run` of each run]}: ``repeat`` pairs of runs, one on 1 worker
-    and one on 2 next to each other (their order alternating), each mix in turn and then the
-    batch mix in plain processes (:data:`PLAIN`). Both LocalClusters and both pools stay up
-    throughout (warmed first; an idle one takes about 0.01 of a core), so that the two runs of
-    a pair are minutes apart from no other pair's."""
+    and one on 2 next to each other (which goes first alternating, so an even ``repeat``
+    balances what one run leaves to the next, e.g. files still being flushed), each mix in turn
+    and then the batch mix in plain processes (:data:`PLAIN`). Both LocalClusters and both
+    pools stay up throughout (warmed first; an idle cluster takes about 0.01 of a core), so no
+    run waits for a cluster to start and the two runs of a pair are seconds apart. Also ``h``,
+    this process's CPU per second with all of them up and idle (its housekeeping)."""
     times = {mix: {1: [], 2: []} for mix in [*specs, PLAIN]}
     with ExitStack() as stack:
         clients = {w: stack.enter_context(dask_client(workers=w)) for w in (1, 2)}
         pools = {w: stack.enter_context(plain_pool(w)) for w in (1, 2)}
         for client in clients.values():
             _warm(client, folder)
+        h = _idle_cpu(3.0)
         for i in range(repeat):
             order = (1, 2) if i % 2 == 0 else (2, 1)
             for mix, spec in specs.items():
@@ -196,7 +199,7 @@ def one_against_two(specs: dict, repeat: int, folder: Path) -> dict:
             for w in order:
                 times[PLAIN][w].append(_timed(partial(plain_seconds, pools[w], specs["batch"],
                                                       folder / "plain")))
-    return times
+    return times, h
 
 
 def _timed(run) -> Run:
@@ -272,7 +275,8 @@ def main(argv: list[str] | None = None) -> int:
                         help="cases of the per-case mix")
     parser.add_argument("--slow-chunk", type=int, default=2000,
                         help="cases per chunk (per-case)")
-    parser.add_argument("--repeat", type=int, default=5, help="pairs of 1- and 2-worker runs")
+    parser.add_argument("--repeat", type=int, default=6,
+                        help="pairs of 1- and 2-worker runs (even: each goes first as often)")
     parser.add_argument("--empty", type=int, default=200, help="empty chunks timed for s")
     args = parser.parse_args(argv)
     print(f"sweep benchmark, {time.strftime('%Y-%m-%d %H:%M:%S')}, {os.cpu_count()} cores, "
@@ -296,21 +300,21 @@ def main(argv: list[str] | None = None) -> int:
             t_start = time.perf_counter() - start
             _warm(client, tmp)
             s = engine_seconds(EmptyChunks(args.empty), client, tmp / "empty") / args.empty
-            h = _idle_cpu(2.0)
         print(f"LocalCluster start {t_start:.2f} s; engine cost per chunk s = {s * 1e3:.2f} ms "
-              f"({args.empty} empty chunks, 1 worker); housekeeping h = {h:.3f} cores (this "
-              f"process, the cluster idle)", flush=True)
-        times = one_against_two(runs, args.repeat, tmp)
+              f"({args.empty} empty chunks, 1 worker)", flush=True)
+        times, h = one_against_two(runs, args.repeat, tmp)
+        print(f"housekeeping h = {h:.3f} cores (this process, both clusters up and idle)",
+              flush=True)
         big = blow_sweep(args.million, args.chunk)
         t_big = min(on_two_workers(big, args.repeat, tmp / "million"))
     print(f"load average after the runs {os.getloadavg()[0]:.2f}")
     costs = {mix: _report(mix, runs[mix], times[mix], s) for mix in runs}
-    plain = _speedup(times[PLAIN])
     _print_runs(PLAIN, specs["batch"], times[PLAIN])
     print(f"the machine's own scaling (plain processes, same chunks, no Dask): "
           f"{_speedups(times[PLAIN])}; "
-          f"the engine's speed-up is {_speedup(times['batch']) / plain:.0%} of it (batch), "
-          f"{_speedup(times[CLIENT_WRITES]) / plain:.0%} (client writes)", flush=True)
+          f"the engine's speed-up against it, the median over the repeats of the ratio of a "
+          f"repeat's two: {_relative(times['batch'], times[PLAIN]):.0%} (batch), "
+          f"{_relative(times[CLIENT_WRITES], times[PLAIN]):.0%} (client writes)", flush=True)
     c, w = costs["batch"]
     net = max(0.0, w - h * c)                  # the client's work per case, on a core of its own
     print(f"{big.n_cases:,} single blows (batch API) on 2 workers, chunks of {big.chunk:,}: "
@@ -356,6 +360,13 @@ def _speedup(times: dict) -> float:
 
 def _ratios(times: dict) -> list:
     return [one.seconds / two.seconds for one, two in zip(times[1], times[2], strict=True)]
+
+
+def _relative(engine: dict, plain: dict) -> float:
+    """The median over the repeats of the engine's pair ratio over the plain processes' pair
+    ratio of the same repeat (a minute apart at most)."""
+    return statistics.median(e / p for e, p in zip(_ratios(engine), _ratios(plain),
+                                                    strict=True))
 
 
 def _speedups(times: dict) -> str:
