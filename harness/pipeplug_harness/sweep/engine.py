@@ -62,8 +62,8 @@ def _run(campaign, c: int):
 
 def _run_stored(campaign, c: int, files: ChunkFiles | None) -> Written | bytes:
     """On a worker: run chunk ``c``; write its file if this process sees the folder (the
-    acknowledgement stays here: the client sees the file), else return the file's bytes for
-    the client to write."""
+    :class:`Written` acknowledgement stays here: the client, told its type, does not fetch
+    it), else return the file's bytes for the client to write."""
     table = campaign.run_chunk(c)
     if files is not None and files.visible():
         return files.write_table(c, table)

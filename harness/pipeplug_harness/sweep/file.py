@@ -185,9 +185,8 @@ def sweep_spec(name: str, raw: dict) -> SweepSpec:
     spec = SweepSpec(name, kind, base, sampling, dims, head["seed"], n_cases,
                      chunk or default_chunk, report, digest="")
     runner = runner_of(spec)                    # decided by the cases, not by their chunking
-    if chunk is None and runner == "batch":
-        chunk = BATCH_CHUNK
-    chunk = chunk or default_chunk
+    if chunk is None:
+        chunk = BATCH_CHUNK if runner == "batch" else default_chunk
     digest = _digest(kind, base, sampling, dims, head["seed"], n_cases, chunk, report)
     return dataclasses.replace(spec, chunk=chunk, digest=digest, runner=runner)
 

@@ -2,7 +2,7 @@
 
 The folder is one Parquet dataset (``part-000000.parquet``, ...; readers skip the ``_`` and
 ``.`` files). A chunk's file is written where the chunk ran when that process sees the folder
-(:class:`ChunkFiles`: the client sees the file and fetches nothing from the worker), else its
+(:class:`ChunkFiles`: the task returns a :class:`Written` that the client does not fetch), else its
 bytes travel to the client, which writes them (:func:`parquet_bytes`). Either way the bytes are
 the same, written under a temporary name of the writer's own and renamed into place, so a file
 is there whole or not at all: a process stopped at any point leaves only finished chunks (and
