@@ -49,6 +49,13 @@ OUTPUTS: tuple[Output, ...] = (
            "the part of W_friction dissipated between pipe and soil"),
     Output("W_friction_inner", "J", "Real",
            "the part of W_friction dissipated between pipe and plug"),
+    Output("E_kinetic", "J", "Real", "kinetic energy of pipe and plug (elastic: the scheme's "
+                                     "discrete kinetic energy, >= 0)"),
+    Output("E_strain", "J", "Real", "strain energy of pipe and plug (rigid: 0; elastic: the "
+                                    "scheme's discrete strain energy, >= 0)"),
+    Output("W_numerical", "J", "Real", "energy the numerical scheme dissipated since t = 0 (>= 0; "
+                                       "fd: the impulses' share; exact and elastic: 0): W_input "
+                                       "= E_kinetic + E_strain + W_friction + W_numerical"),
     Output("at_rest", "1", "Boolean", "true when a step under Q = 0 would leave the whole state "
                                       "unchanged, bit for bit"),
     Output("pipe_mode", "1", "Integer", "pipe/soil contact: -1 sliding backward, 0 stuck to the "
@@ -88,9 +95,6 @@ class Model(Protocol):
     def sample(self, q, times, names=OUTPUT_NAMES) -> dict:
         """Advance through ``times`` [s] under ``q`` [N] (constant, or ``q[j]`` over the
         interval ending at ``times[j]``), recording ``names`` at ``times``."""
-
-    def energies(self) -> tuple[float, float, float]:
-        """Kinetic energy, elastic energy and the scheme's reversing work [J]."""
 
     def modes(self) -> tuple[tuple[int, int], ...]:
         """The contact modes the run went through, in order: ``(pipe_mode, plug_mode)`` as in

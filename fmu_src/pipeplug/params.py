@@ -93,6 +93,8 @@ PARAMETERS: tuple[Parameter, ...] = (
               0.0, True, upper=1.0, active_with="elastic"),
     Parameter("x_monitor", "m", 0.5, "elastic: reference section whose motion is output", 0.0,
               upper_of="L1", active_with="elastic"),
+    Parameter("max_internal_steps", "1", 1.0e8, "elastic and fd: the most internal steps one "
+              "communication step may take (a longer step is refused)", 1.0),
 )
 
 _BY_NAME = {p.name: p for p in PARAMETERS}

@@ -11,6 +11,17 @@ free end). One step of length ``dt`` is
    ``c = dt * tau * P * (contact length)``;
 3. drift: ``N[f] += (E S / dx) dt (v[f] - v[f-1])`` at the inner faces.
 
+Friction work per contact and step is ``-I (v_old + v_new) / 2`` (impulse times mean velocity):
+what the friction takes from the scheme's energy (:mod:`pipeplug.elastic.model`), exactly. A
+cell's term is negative in one kind of step only: the kick alone would reverse the relative
+velocity, and friction then stops or holds it (the energy pairs the impulse with the step's
+mean velocity, whose sign is the old one). Summed over the rods such terms are outweighed by the
+work of the sliding cells, except where little else moves; a step whose sum at either contact
+would be negative creates energy, and such steps pumped the ringing of rods held in the soil
+until they diverged. That step applies, at each cell whose term is negative, only the share of
+its impulse for which the term is 0 (:func:`share`, :func:`limit`). Every other step applies the
+projection as it is, so a body held by static friction stays exactly at rest.
+
 Cells at rest whose inputs did not change are skipped (:func:`moving_end`, the kernels): a cell's
 step is a function of its velocity, the forces on its faces and its friction limits alone, so it
 would give the same result again, velocity 0 and the same static reaction, and a face between
@@ -21,19 +32,15 @@ The cells on the soil alone and the pipe-plug pairs are stepped in two passes: e
 own, its impulse and friction work stored in a scratch array; then the sums, in the cells'
 order. Without a sum carried from one cell to the next, compiled code steps several cells at
 once, and the sums are those of a single loop bit for bit.
-
-Friction work per contact and step is ``-I (v_old + v_new) / 2`` (impulse times mean velocity),
-which makes the discrete energy balance exact (see :meth:`ElasticModel.energies`). It is
-negative only when a step reverses a node's relative velocity; that part is kept apart in
-``w_neg`` so that the dissipated work never decreases.
 """
 from __future__ import annotations
 
 from ..contact import coulomb
 from ..jit import jitable
 
-__all__ = ["free_cells", "soil_cells", "plug_cells", "plug_soil_cells", "drift", "track",
-           "soil_start", "soil_weight", "moving_end", "next_end"]
+__all__ = ["free_cells", "soil_cells", "plug_cells", "plug_soil_cells", "sums", "limit", "drift",
+           "track", "soil_start", "soil_weight", "moving_end", "next_end", "share", "accumulate",
+           "SCRATCH_ROWS"]
 
 # The projections are the rigid models' own (one source); compiled kernels call them too.
 one_contact = jitable(coulomb.one_contact)
@@ -44,6 +51,50 @@ jitable(coulomb._clip)
 
 
 @jitable
+def share(f, r, w, x):
+    """The share of a contact's projected impulse a step applies, in [0, 1].
+
+    Parameters
+    ----------
+    f : float
+        The projection's friction impulse on the contact [N s].
+    r, w, x : float
+        The contact's relative velocity before the step, after the kick and after the
+        projection [m/s].
+
+    Returns
+    -------
+    float
+        The largest ``lam`` for which the contact's friction work with the impulse ``lam f``,
+        ``-lam f (r + w + lam (x - w)) / 2``, is not negative: 1 unless the projection's own
+        work ``-f (r + x) / 2`` is negative.
+    """
+    # The work is lam (a + lam b) / 2: a / 2 its slope at lam = 0, (a + b) / 2 at lam = 1.
+    a = -f * (r + w)
+    b = -f * (x - w)
+    if a + b >= 0.0:
+        return 1.0
+    if a <= 0.0:
+        return 0.0
+    return a / -b             # b < -a < 0: the work is 0 there
+
+
+@jitable
+def _applied(lam, w, x):
+    """The velocity after a step that applies the share ``lam`` of the projection ``w -> x``
+    (``x`` itself for the whole impulse, bit for bit)."""
+    return x if lam == 1.0 else w + lam * (x - w)
+
+
+# Rows of a step's scratch (shape (8, pipe cells), indexed by pipe cell; plug quantities at the
+# pipe cell coupled to the plug cell): friction impulse [N s] and work [J] at the soil (1) and
+# plug (2) contact, and the velocities before the step and after its kick [m/s] of the pipe (1)
+# and plug (2) cell: what :func:`limit` needs to take back part of a projection.
+F1, D1, F2, D2, R1, W1, R2, W2 = range(8)
+SCRATCH_ROWS = 8
+
+
+@jitable
 def free_cells(v, N, lo, hi, a):
     """Kick cells ``lo..hi-1`` without friction; ``a = dt/m`` [s/kg]."""
     for j in range(lo, hi):
@@ -51,129 +102,147 @@ def free_cells(v, N, lo, hi, a):
 
 
 @jitable
-def soil_cells(v, N, lo, hi, a, m, c, start, scratch):
-    """Kick cells ``lo..hi-1`` touching only the soil, then project their velocities.
+def soil_cells(v, N, lo, hi, a, m, c, start, s):
+    """Kick cells ``lo..hi-1`` touching only the soil, then project their velocities; their
+    impulses, works and velocities go to the scratch ``s`` (rows :data:`F1`, :data:`D1`,
+    :data:`R1`, :data:`W1`).
 
     The contact of cell ``j`` covers the part of the cell beyond ``start`` (in cells from the
-    struck end): :func:`soil_weight` of the full-cell limit ``c`` [N s].
-    Two passes, as in :func:`_pairs` (``scratch`` likewise).
-
-    Returns
-    -------
-    impulse, work, w_neg : float
-        Total friction impulse on the rod along +x [N s]; dissipated work [J] (>= 0) and the
-        negative part from reversing steps [J].
+    struck end): :func:`soil_weight` of the full-cell limit ``c`` [N s]; ``a = dt/m`` [s/kg],
+    ``m`` the cell mass [kg]. No sum is carried from one cell to the next, so compiled code
+    projects several cells at once.
     """
-    n = max(hi - lo, 0)
-    impulses, works = scratch[0, :n], scratch[1, :n]
-    _soil_pass(v[lo:lo + n], N[lo:lo + n + 1], lo, a, m, c, start, impulses, works)
-    return _sums(impulses, works)
+    for j in range(lo, hi):
+        r = v[j]
+        w = r + a * (N[j + 1] - N[j])
+        x, f = one_contact(m, w, c * soil_weight(j, start), 0.0)
+        v[j] = x
+        s[F1, j] = f
+        s[D1, j] = -0.5 * f * (r + x)
+        s[R1, j] = r
+        s[W1, j] = w
 
 
 @jitable
-def _soil_pass(v, N, lo, a, m, c, start, impulses, works):
-    """Kick and project the cells ``v`` (a view from cell ``lo``, with the faces ``N`` around
-    them) on the soil; their impulses [N s] and friction works [J] go to ``impulses`` and
-    ``works``."""
-    for k in range(v.shape[0]):
-        v_old = v[k]
-        limit = c * soil_weight(lo + k, start)
-        x, f = one_contact(m, v_old + a * (N[k + 1] - N[k]), limit, 0.0)
-        v[k] = x
-        impulses[k] = f
-        works[k] = -0.5 * f * (v_old + x)
+def plug_cells(v1, N1, v2, N2, j0, lo, hi, a1, a2, m1, m2, c2, s):
+    """Kick the plug cells ``lo..hi-1`` and the pipe cells ``j0 + lo..`` coupled to them (pipe
+    cell ``j0 + k`` and plug cell ``k`` share a reference section), then project each pair;
+    impulses, works and velocities go to the scratch ``s`` (rows :data:`F2`, :data:`D2`,
+    :data:`R1`, :data:`W1`, :data:`R2`, :data:`W2`) at the pipe cells.
 
-
-@jitable
-def plug_cells(v1, N1, v2, N2, j0, a1, a2, m1, m2, c2, scratch):
-    """Kick the pipe cells ``j0..`` and the plug cells coupled to them, then project each pair.
-
-    Pipe cell ``j0 + k`` and plug cell ``k`` share a reference section; ``scratch`` is an array
-    of shape (2, at least the plug's cells) for :func:`_pairs`. Returns the impulse of the plug
-    on the pipe [N s], the dissipated work and its negative part [J].
+    The pair problem has no branch that compiled code cannot turn into a select: it projects
+    several pairs at once.
     """
-    return _pairs(v1, N1, v2, N2, j0, v2.shape[0], a1, a2, m1, m2, c2, scratch)
+    for k in range(lo, hi):
+        j = j0 + k
+        p = v1[j]
+        q = v2[k]
+        w1 = p + a1 * (N1[j + 1] - N1[j])
+        w2 = q + a2 * (N2[k + 1] - N2[k])
+        x1, x2, f2 = pair_contact(m1, m2, w1, w2, c2)
+        v1[j] = x1
+        v2[k] = x2
+        s[F2, j] = f2
+        s[D2, j] = -0.5 * f2 * (p - q + x1 - x2)
+        s[R1, j] = p
+        s[W1, j] = w1
+        s[R2, j] = q
+        s[W2, j] = w2
 
 
 @jitable
-def _pairs(v1, N1, v2, N2, j0, hi, a1, a2, m1, m2, c2, scratch):
-    """:func:`plug_cells` for the plug cells ``0..hi-1``.
-
-    In two passes: the pairs, each on its own, their impulses and works kept in ``scratch``
-    (shape (2, at least hi)); then the sums, in the cells' order. No sum is carried from
-    one pair to the next in the first pass, so compiled code projects several pairs at once
-    (the pair problem has no branch that it cannot turn into a select).
-    """
-    n = max(hi, 0)
-    impulses, works = scratch[0, :n], scratch[1, :n]
-    _pair_pass(v1[j0:j0 + n], N1[j0:j0 + n + 1], v2[:n], N2[:n + 1], a1, a2, m1, m2, c2,
-               impulses, works)
-    return _sums(impulses, works)
-
-
-@jitable
-def _sums(impulses, works):
-    """The sum of ``impulses`` [N s], and of ``works`` [J] split into the dissipated and the
-    reversing part (:func:`_book`), in index order (the cells' order)."""
-    impulse = 0.0
-    work = 0.0
-    w_neg = 0.0
-    for k in range(impulses.shape[0]):
-        impulse += impulses[k]
-        work, w_neg = _book(works[k], work, w_neg)
-    return impulse, work, w_neg
-
-
-@jitable
-def _pair_pass(p, Np, q, Nq, a1, a2, m1, m2, c2, impulses, works):
-    """Kick and project the pairs of pipe cells ``p`` and plug cells ``q`` (views, with the
-    faces ``Np``, ``Nq`` around them); their plug impulses [N s] and friction works [J] go to
-    ``impulses`` and ``works``."""
-    for k in range(p.shape[0]):
-        p_old = p[k]
-        q_old = q[k]
-        x1, x2, f2 = pair_contact(m1, m2, p_old + a1 * (Np[k + 1] - Np[k]),
-                                  q_old + a2 * (Nq[k + 1] - Nq[k]), c2)
-        p[k] = x1
-        q[k] = x2
-        impulses[k] = f2
-        works[k] = -0.5 * f2 * (p_old - q_old + x1 - x2)
-
-
-@jitable
-def plug_soil_cells(v1, N1, v2, N2, j0, end, a1, a2, m1, m2, c1, c2, start, scratch):
+def plug_soil_cells(v1, N1, v2, N2, j0, end, a1, a2, m1, m2, c1, c2, start, s):
     """As :func:`plug_cells` for the pipe cells ``j0..end-1``, with the soil contact too
-    (weights as in :func:`soil_cells`).
+    (weights as in :func:`soil_cells`; rows :data:`F1` and :data:`D1` as well).
 
     A cell outside the soil's contact (weight 0) is the pair problem of :func:`plug_cells`: not
     the two-contact problem with a zero limit, which within its round-off slack would hold a
     pair of nearly opposite momenta still as if the soil touched it (and costs more).
 
-    Returns the impulses of the soil and of the plug on the pipe [N s], the work dissipated at
-    the soil and at the plug contacts, and the negative part of both [J].
+    Returns the first plug cell in the soil's contact (the pipe cells from ``j0`` plus it on
+    touch the soil).
     """
     # The cells with weight 0 come first (the contact covers the far end): a loop of their own.
     hi = max(end - j0, 0)
     free = _first_in_contact(j0, hi, start)
-    inner, work_inner, w_neg = _pairs(v1, N1, v2, N2, j0, free, a1, a2, m1, m2, c2, scratch)
-    outer = 0.0
-    work_outer = 0.0
-    # One pass here: the two-contact problem tries its patterns in turn (no select for
-    # several cells at once), and both contacts add to w_neg, interleaved cell by cell.
+    plug_cells(v1, N1, v2, N2, j0, 0, free, a1, a2, m1, m2, c2, s)
+    # One loop here: the two-contact problem tries its patterns in turn (no select for several
+    # cells at once).
     for k in range(free, hi):
         j = j0 + k
-        p_old = v1[j]
-        q_old = v2[k]
-        limit = c1 * soil_weight(j, start)
-        x1, x2, f1, f2, _, _ = two_contacts(m1, m2, p_old + a1 * (N1[j + 1] - N1[j]),
-                                            q_old + a2 * (N2[k + 1] - N2[k]), limit, c2, 0.0)
+        p = v1[j]
+        q = v2[k]
+        w1 = p + a1 * (N1[j + 1] - N1[j])
+        w2 = q + a2 * (N2[k + 1] - N2[k])
+        x1, x2, f1, f2, _, _ = two_contacts(m1, m2, w1, w2, c1 * soil_weight(j, start), c2, 0.0)
         v1[j] = x1
         v2[k] = x2
-        outer += f1
-        inner += f2
-        work_outer, w_neg = _book(-0.5 * f1 * (p_old + x1), work_outer, w_neg)
-        work_inner, w_neg = _book(-0.5 * f2 * (p_old - q_old + x1 - x2), work_inner, w_neg)
-    return outer, inner, work_outer, work_inner, w_neg
+        s[F1, j] = f1
+        s[D1, j] = -0.5 * f1 * (p + x1)
+        s[F2, j] = f2
+        s[D2, j] = -0.5 * f2 * (p - q + x1 - x2)
+        s[R1, j] = p
+        s[W1, j] = w1
+        s[R2, j] = q
+        s[W2, j] = w2
+    return free
+
+
+@jitable
+def sums(s, row, lo, hi):
+    """The sum of scratch row ``row`` over the pipe cells ``lo..hi-1``, in their order."""
+    total = 0.0
+    for j in range(lo, hi):
+        total += s[row, j]
+    return total
+
+
+@jitable
+def limit(v1, v2, j0, s, soil_lo, soil_hi, pair_lo, pair_hi, both_lo, both_hi):
+    """Take back the share of the projection (:func:`share`) of every cell whose friction work
+    is negative: the soil-only pipe cells ``soil_lo..soil_hi-1``, the pairs of pipe cells
+    ``pair_lo..pair_hi-1`` (plug cell = pipe cell - ``j0``) and the pipe cells
+    ``both_lo..both_hi-1`` touching soil and plug (one share for both of their contacts).
+
+    A step calls it when a contact's friction work summed over the rods is negative: in such
+    a step the cells whose kick reversed their velocity booked more negative work than the
+    others dissipated. Afterwards every cell's work at each contact is >= 0 (0 where a share
+    was taken), so the step creates no energy.
+    """
+    for j in range(soil_lo, soil_hi):
+        if s[D1, j] < 0.0:
+            lam = share(s[F1, j], s[R1, j], s[W1, j], v1[j])
+            v1[j] = _applied(lam, s[W1, j], v1[j])
+            _scale(s, F1, D1, j, lam, s[R1, j] + v1[j])
+    for j in range(pair_lo, pair_hi):
+        if s[D2, j] < 0.0:
+            k = j - j0
+            lam = share(s[F2, j], s[R1, j] - s[R2, j], s[W1, j] - s[W2, j], v1[j] - v2[k])
+            _apply_pair(v1, v2, j, k, s, lam)
+    for j in range(both_lo, both_hi):
+        if s[D1, j] < 0.0 or s[D2, j] < 0.0:
+            k = j - j0
+            lam = min(share(s[F1, j], s[R1, j], s[W1, j], v1[j]),
+                      share(s[F2, j], s[R1, j] - s[R2, j], s[W1, j] - s[W2, j], v1[j] - v2[k]))
+            _apply_pair(v1, v2, j, k, s, lam)
+            _scale(s, F1, D1, j, lam, s[R1, j] + v1[j])
+
+
+@jitable
+def _apply_pair(v1, v2, j, k, s, lam):
+    """Apply the share ``lam`` to pipe cell ``j``, plug cell ``k`` and their plug contact."""
+    v1[j] = _applied(lam, s[W1, j], v1[j])
+    v2[k] = _applied(lam, s[W2, j], v2[k])
+    _scale(s, F2, D2, j, lam, s[R1, j] - s[R2, j] + v1[j] - v2[k])
+
+
+@jitable
+def _scale(s, impulse, work, j, lam, speeds):
+    """Scale the impulse of row ``impulse`` at cell ``j`` by ``lam``; its work (row ``work``)
+    from the sum of relative velocities before and after the step ``speeds`` [m/s]."""
+    f = lam * s[impulse, j]
+    s[impulse, j] = f
+    s[work, j] = -0.5 * f * speeds
 
 
 @jitable
@@ -230,7 +299,7 @@ def next_end(moved, moved_before, n):
     A cell from ``max(moved + 1, moved_before)`` on was at rest before this step and after it,
     and so were its neighbours after it: its velocity, the forces on its faces and, as the front
     end (the last cell) did not move, its soil contact are those of this step, whose result it
-    would repeat.
+    would repeat (the projection of a cell at rest keeps its whole impulse: :func:`share`).
     """
     return min(n, max(moved + 1, moved_before))
 
@@ -246,8 +315,14 @@ def soil_start(u_front, n_cells, dx):
 
 
 @jitable
-def _book(d, work, w_neg):
-    """Add one contact's friction work ``d`` [J] to the dissipated or the reversing part."""
-    # Both sums take a term, one of them 0.0, which leaves it unchanged: no branch, whose
-    # outcome the ringing of a rod, reversing contacts at random, would keep mispredicting.
-    return work + max(d, 0.0), w_neg + min(d, 0.0)
+def accumulate(acc, index, compensation, value):
+    """Add ``value`` to the running sum ``acc[index]``, compensated (Neumaier): the rounding
+    error of every addition is summed in ``acc[compensation]``, so that a sum over the
+    millions of steps of a drive stays exact to a few units of its last place."""
+    total = acc[index]
+    added = total + value
+    if abs(total) >= abs(value):
+        acc[compensation] += (total - added) + value
+    else:
+        acc[compensation] += (value - added) + total
+    acc[index] = added

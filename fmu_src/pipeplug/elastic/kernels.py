@@ -8,9 +8,10 @@ loop, not skipped by an ``if`` in it. All kernels take the same arguments::
     kernel(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc)
 
 ``coef`` holds the constants (indices below), ``v1``/``N1`` and ``v2``/``N2`` the pipe and plug
-fields (without a plug ``v2`` is empty and ``N2`` one unused face), ``u1``/``u2`` the displacements [m] of the
-tracked cells ``cells1``/``cells2`` (``cells1[0]`` is the pipe's front cell), and ``acc`` the
-accumulated works and the last step's friction forces (indices below).
+fields (without a plug ``v2`` is empty and ``N2`` one unused face), ``u1``/``u2`` the
+displacements [m] of the tracked cells ``cells1``/``cells2`` (``cells1[0]`` is the pipe's front
+cell), and ``acc`` the accumulated works (compensated sums) and the last step's friction forces
+(indices below).
 
 The loops with soil friction step only the pipe cells before an ``end`` (and the plug cells
 coupled to them): the cells beyond are at rest and would repeat their last step
@@ -28,14 +29,22 @@ import numpy as np
 
 from ..jit import jitable
 from .cells import (
+    D1,
+    D2,
+    F1,
+    F2,
+    SCRATCH_ROWS,
+    accumulate,
     drift,
     free_cells,
+    limit,
     moving_end,
     next_end,
     plug_cells,
     plug_soil_cells,
     soil_cells,
     soil_start,
+    sums,
     track,
 )
 
@@ -45,18 +54,21 @@ __all__ = ["KERNELS"]
 # per full cell P tau dx [N] of the soil and plug contacts, grid step [m].
 M1, K1, M2, K2, C1, C2, DX = range(7)
 N_COEF = 7
-# acc: W_input [J], friction work dissipated at the soil and at the plug contact [J],
-# negative friction work of reversing steps [J], last step's soil and plug friction forces on
-# the pipe along +x [N].
-W_IN, W_OUTER, W_INNER, W_NEG, F_OUT, F_IN = range(6)
-N_ACC = 6
+# acc: W_input [J], friction work at the soil and at the plug contact [J] (each the sum of
+# acc[i] and its rounding error acc[i + COMPENSATION]); the last step's soil and plug friction
+# forces on the pipe along +x [N]; the number of steps that took back a share of a projection
+# (pipeplug.elastic.cells.limit).
+W_IN, W_OUTER, W_INNER, F_OUT, F_IN = range(5)
+COMPENSATION = 5
+LIMITED = 8
+N_ACC = 9
 
 
 @jitable
 def _finish_step(q, dt, v_first_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc, end):
     """Add the input work of the step [J]; then drift the forces of the pipe cells before
     ``end`` and of the plug cells coupled to them, and the displacements."""
-    acc[W_IN] += 0.5 * q * dt * (v_first_old + v1[0])
+    _add_work(acc, W_IN, 0.5 * q * dt * (v_first_old + v1[0]))
     drift(v1, N1, coef[K1] * dt, end)
     drift(v2, N2, coef[K2] * dt, end - (v1.shape[0] - v2.shape[0]))
     track(u1, cells1, v1, dt)
@@ -64,52 +76,61 @@ def _finish_step(q, dt, v_first_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u
 
 
 @jitable
-def _add_work(acc, contact, work, w_neg):
-    """Accumulate the friction work of a step at ``contact`` (W_OUTER or W_INNER): dissipated
-    [J] and reversing part [J]."""
-    acc[contact] += work
-    acc[W_NEG] += w_neg
+def _add_work(acc, index, work):
+    """Add a step's work [J] to the compensated sum ``acc[index]`` (W_IN, W_OUTER or W_INNER)."""
+    accumulate(acc, index, index + COMPENSATION, work)
 
 
 @jitable
-def _soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, start, end,
-               scratch):
-    """One step of the pipe cells before ``end`` on the soil (``scratch`` for
-    :func:`pipeplug.elastic.cells.soil_cells`); returns the soil's impulse on them [N s]."""
+def _book_friction(acc, outer, inner):
+    """Add a step's friction works at the soil and the plug [J]: each >= 0 but for round-off
+    (after :func:`pipeplug.elastic.cells.limit`), which is dropped."""
+    _add_work(acc, W_OUTER, max(outer, 0.0))
+    _add_work(acc, W_INNER, max(inner, 0.0))
+
+
+@jitable
+def _soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, start, end, s):
+    """One step of the pipe cells before ``end`` on the soil (scratch ``s``)."""
     v_old = v1[0]
-    outer, work, w_neg = soil_cells(v1, N1, 0, end, dt / coef[M1], coef[M1], dt * coef[C1],
-                                    start, scratch)
-    _add_work(acc, W_OUTER, work, w_neg)
+    soil_cells(v1, N1, 0, end, dt / coef[M1], coef[M1], dt * coef[C1], start, s)
+    outer = sums(s, D1, 0, end)
+    if outer < 0.0:
+        limit(v1, v2, 0, s, 0, end, 0, 0, 0, 0)
+        outer = sums(s, D1, 0, end)
+        acc[LIMITED] += 1.0
+    _book_friction(acc, outer, 0.0)
     _finish_step(q, dt, v_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc, end)
-    return outer
 
 
 @jitable
-def _plug_soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, start, end,
-                    scratch):
+def _plug_soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, start, end, s):
     """One step of the pipe cells before ``end``, the plug cells coupled to them and the soil
-    (``scratch`` for :func:`pipeplug.elastic.cells.plug_soil_cells`); returns the soil's and
-    plug's impulses on them [N s]."""
+    (scratch ``s``)."""
     v_old = v1[0]
     j0 = v1.shape[0] - v2.shape[0]
     a1 = dt / coef[M1]
     c1 = dt * coef[C1]
-    outer, work, w_neg = soil_cells(v1, N1, 0, min(j0, end), a1, coef[M1], c1, start,
-                                    scratch)
-    _add_work(acc, W_OUTER, work, w_neg)
-    outer2, inner, work_outer, work_inner, w_neg = plug_soil_cells(
-        v1, N1, v2, N2, j0, end, a1, dt / coef[M2], coef[M1], coef[M2], c1, dt * coef[C2],
-        start, scratch)
-    _add_work(acc, W_OUTER, work_outer, 0.0)
-    _add_work(acc, W_INNER, work_inner, w_neg)
+    alone = min(j0, end)
+    soil_cells(v1, N1, 0, alone, a1, coef[M1], c1, start, s)
+    both = j0 + plug_soil_cells(v1, N1, v2, N2, j0, end, a1, dt / coef[M2], coef[M1],
+                                coef[M2], c1, dt * coef[C2], start, s)
+    outer = sums(s, D1, 0, alone) + sums(s, D1, both, end)
+    inner = sums(s, D2, j0, end)
+    if outer < 0.0 or inner < 0.0:
+        limit(v1, v2, j0, s, 0, alone, j0, both, both, end)
+        outer = sums(s, D1, 0, alone) + sums(s, D1, both, end)
+        inner = sums(s, D2, j0, end)
+        acc[LIMITED] += 1.0
+    _book_friction(acc, outer, inner)
     _finish_step(q, dt, v_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc, end)
-    return outer + outer2, inner
+    return both
 
 
 @jitable
 def run_pipe(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
     """Pipe alone, no friction."""
-    N1[0] = -q
+    N1[0] = 0.0 - q         # +0.0 under no load, as a fresh model holds it
     for _ in range(n):
         v_old = v1[0]
         free_cells(v1, N1, 0, v1.shape[0], dt / coef[M1])
@@ -122,94 +143,98 @@ def run_pipe(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
 @jitable
 def run_pipe_soil(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
     """Pipe on the soil over its whole length."""
-    N1[0] = -q
+    N1[0] = 0.0 - q         # +0.0 under no load, as a fresh model holds it
     n1 = v1.shape[0]
-    outer = 0.0
     end = moved = n1
-    scratch = _scratch(v1)
+    s = _scratch(v1)
     for i in range(n):
-        outer = _soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, 0.0, end,
-                           scratch)
+        _soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, 0.0, end, s)
         end, moved = _next(v1, v2, n1, end, moved, i + 2 == n)
-    acc[F_OUT] = outer / dt
+    acc[F_OUT] = sums(s, F1, 0, n1) / dt
     acc[F_IN] = 0.0
 
 
 @jitable
 def run_pipe_soil_growth(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
     """Pipe on the soil over the penetrated length."""
-    N1[0] = -q
+    N1[0] = 0.0 - q         # +0.0 under no load, as a fresh model holds it
     n1 = v1.shape[0]
-    outer = 0.0
     end = moved = n1
-    scratch = _scratch(v1)
+    s = _scratch(v1)
     for i in range(n):
         start = soil_start(u1[0], n1, coef[DX])
-        outer = _soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, start,
-                           end, scratch)
+        _soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, start, end, s)
         end, moved = _next(v1, v2, n1, end, moved, i + 2 == n)
-    acc[F_OUT] = outer / dt
+    acc[F_OUT] = sums(s, F1, 0, n1) / dt
     acc[F_IN] = 0.0
 
 
 @jitable
 def run_pipe_plug(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
     """Pipe and plug, no soil friction."""
-    N1[0] = -q
-    j0 = v1.shape[0] - v2.shape[0]
-    inner = 0.0
-    scratch = _scratch(v1)
+    N1[0] = 0.0 - q         # +0.0 under no load, as a fresh model holds it
+    n1 = v1.shape[0]
+    j0 = n1 - v2.shape[0]
+    s = _scratch(v1)
     for _ in range(n):
         v_old = v1[0]
         free_cells(v1, N1, 0, j0, dt / coef[M1])
-        inner, work, w_neg = plug_cells(v1, N1, v2, N2, j0, dt / coef[M1], dt / coef[M2],
-                                        coef[M1], coef[M2], dt * coef[C2], scratch)
-        _add_work(acc, W_INNER, work, w_neg)
-        _finish_step(q, dt, v_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc,
-                     v1.shape[0])
+        plug_cells(v1, N1, v2, N2, j0, 0, v2.shape[0], dt / coef[M1], dt / coef[M2], coef[M1],
+                   coef[M2], dt * coef[C2], s)
+        inner = sums(s, D2, j0, n1)
+        if inner < 0.0:
+            limit(v1, v2, j0, s, 0, 0, j0, n1, 0, 0)
+            inner = sums(s, D2, j0, n1)
+            acc[LIMITED] += 1.0
+        _book_friction(acc, 0.0, inner)
+        _finish_step(q, dt, v_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc, n1)
     acc[F_OUT] = 0.0
-    acc[F_IN] = inner / dt
+    acc[F_IN] = sums(s, F2, j0, n1) / dt
 
 
 @jitable
 def run_pipe_plug_soil(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
     """Pipe, plug and soil over the whole pipe length."""
-    N1[0] = -q
+    N1[0] = 0.0 - q         # +0.0 under no load, as a fresh model holds it
     n1 = v1.shape[0]
-    outer = inner = 0.0
-    end = moved = n1
-    scratch = _scratch(v1)
+    end = moved = both = n1
+    s = _scratch(v1)
     for i in range(n):
-        outer, inner = _plug_soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2,
-                                       acc, 0.0, end, scratch)
+        both = _plug_soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, 0.0,
+                               end, s)
         end, moved = _next(v1, v2, n1, end, moved, i + 2 == n)
-    acc[F_OUT] = outer / dt
-    acc[F_IN] = inner / dt
+    _last_forces(acc, s, n1 - v2.shape[0], both, n1, dt)
 
 
 @jitable
 def run_pipe_plug_soil_growth(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
     """Pipe, plug and soil over the penetrated length."""
-    N1[0] = -q
+    N1[0] = 0.0 - q         # +0.0 under no load, as a fresh model holds it
     n1 = v1.shape[0]
-    outer = inner = 0.0
-    end = moved = n1
-    scratch = _scratch(v1)
+    end = moved = both = n1
+    s = _scratch(v1)
     for i in range(n):
         start = soil_start(u1[0], n1, coef[DX])
-        outer, inner = _plug_soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2,
-                                       acc, start, end, scratch)
+        both = _plug_soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, start,
+                               end, s)
         end, moved = _next(v1, v2, n1, end, moved, i + 2 == n)
-    acc[F_OUT] = outer / dt
-    acc[F_IN] = inner / dt
+    _last_forces(acc, s, n1 - v2.shape[0], both, n1, dt)
+
+
+@jitable
+def _last_forces(acc, s, j0, both, n1, dt):
+    """The soil's and the plug's friction forces on the pipe in the last step (every cell) [N],
+    from the scratch ``s``: soil on the cells alone (before ``j0``) and on those touching both
+    (from ``both``), plug on the coupled cells."""
+    acc[F_OUT] = (sums(s, F1, 0, j0) + sums(s, F1, both, n1)) / dt
+    acc[F_IN] = sums(s, F2, j0, n1) / dt
 
 
 @jitable
 def _scratch(v1):
-    """Room for the impulses and works of the cells that one call of ``soil_cells``,
-    ``plug_cells`` or ``plug_soil_cells`` steps in a pass (reused by each). The pipe ``v1`` has
-    the most cells (L2 <= L1): the loops do not check their bounds."""
-    return np.empty((2, v1.shape[0]))
+    """The scratch of a kernel call (:data:`pipeplug.elastic.cells.SCRATCH_ROWS` rows, a column
+    per pipe cell): written by every step before it is read."""
+    return np.zeros((SCRATCH_ROWS, v1.shape[0]))
 
 
 @jitable
@@ -232,4 +257,3 @@ KERNELS = {
     (True, True, False): run_pipe_plug_soil,
     (True, True, True): run_pipe_plug_soil_growth,
 }
-

@@ -14,18 +14,38 @@ Scheme: velocity-force staggered grid in space and time. Velocities live at cell
 axial forces at cell faces; the end faces carry the boundary forces exactly (``-Q`` and 0).
 Masses are the full cells. Velocities take a kick from the force differences, then the exact
 two-contact Coulomb projection node by node (:mod:`pipeplug.contact.coulomb`); the forces then
-drift with the new velocities. At Courant number 1 this transports the rod's waves exactly
-(d'Alembert) with no odd-even decoupling: node-centred velocities with half masses at the ends
-alternate between 0 and twice the wave velocity at the struck end (docs/corrections.md D6).
+drift with the new velocities (:mod:`pipeplug.elastic.cells`). At Courant number 1 this
+transports the rod's waves exactly (d'Alembert) with no odd-even decoupling: node-centred
+velocities with half masses at the ends alternate between 0 and twice the wave velocity at the
+struck end (docs/corrections.md D6).
 
-Without numba the same steps run as whole-array numpy operations instead of compiled loops
-(:mod:`pipeplug.elastic.vectorised`), with the same results bit for bit.
+Every internal step has the same length, ``h = courant dx / c_fastest``, on a grid of times
+``t_k = t_0 + k h`` fixed when the model first steps (:class:`Clock`). The scheme conserves
+the quadratic energy (per rod, ``m`` the cell mass, ``k = E S / dx``, sums over cells and inner
+faces, ``N`` the forces of the half step ahead)::
 
-Stepping: a communication step h is taken as n = ceil(h/h_max - 1e-9) equal internal steps,
-h_max = courant dx / c_fastest. The outputs follow the contract's section rule.
+    E = sum m v^2 / 2 + sum N (N - k h D v) / (2 k)
+      = [sum m v^2 / 2 - (k h^2 / 8) sum (D v)^2]  +  sum Nbar^2 / (2 k),   Nbar = N - k h D v / 2
+
+(``D v`` the velocity differences across the inner faces): the first bracket is ``E_kinetic``,
+>= 0 for Courant numbers <= 1, the second ``E_strain``, >= 0 always (``Nbar`` is the force at
+the step's time). Each step adds the input work ``Q h (v0 + v0') / 2`` and removes the friction
+work, never negative at either contact (:func:`pipeplug.elastic.cells.limit`), so ``W_input = E_kinetic +
+E_strain + W_friction`` holds to round-off, and ``E`` is bounded by the input work: the scheme
+cannot diverge. A step of another length would conserve another energy, and alternating
+lengths would pump the grid's shortest waves (at Courant 1 their energy is a small difference of
+large terms); that is why the length never changes. Without numba the same steps run as
+whole-array numpy operations instead of compiled loops (:mod:`pipeplug.elastic.vectorised`),
+with the same results bit for bit.
+
+Stepping a communication step: the grid points up to its end are stepped; a communication point
+between grid points keeps the impulse of Q since the last one for the next step, which applies
+the mean force of its whole interval (the impulse is exact; the load's timing is resolved to
+``h``). The outputs are those of the last grid point at or before the communication point.
+Communication steps that are multiples of ``h`` therefore take exactly the grid's steps.
 
 Exact limit: without friction, at Courant 1, the cell velocities equal the cell averages of the
-d'Alembert solution at the step times; the momentum sum m v equals the impulse of Q exactly.
+d'Alembert solution at the grid times; the momentum sum m v equals the impulse of Q exactly.
 """
 from __future__ import annotations
 
@@ -35,13 +55,57 @@ import numpy as np
 
 from .. import jit
 from ..interface import ModelBase, Outputs
+from ..params import ParameterError
 from .grid import Section, build_grid
-from .kernels import F_IN, F_OUT, K1, K2, KERNELS, M1, M2, N_ACC, W_IN, W_INNER, W_NEG, W_OUTER
+from .kernels import (
+    COMPENSATION,
+    F_IN,
+    F_OUT,
+    K1,
+    K2,
+    KERNELS,
+    M1,
+    M2,
+    N_ACC,
+    W_IN,
+    W_INNER,
+    W_OUTER,
+)
 from .vectorised import VECTORISED
 
-__all__ = ["ElasticModel"]
+__all__ = ["ElasticModel", "Clock"]
 
 _FIELDS = ("v1", "N1", "v2", "N2", "u1", "u2", "acc")
+#: A communication point within this share of ``h`` of a grid point is on it (host clocks carry
+#: round-off; the load's timing error is then at most this share of a step).
+SNAP = 1e-6
+
+
+class Clock:
+    """The elastic model's grid of times and the load's impulse since its last point.
+
+    Grid points are ``origin + k h``; ``pending`` is the impulse of Q [N s] from grid point
+    ``k`` to :attr:`time` (0 when the time is at or, by round-off, before the point).
+    """
+
+    def __init__(self, h: float):
+        self.h = h
+        self.origin = 0.0      #: the first step's start [s]
+        self.k = 0             #: grid points stepped
+        self.pending = 0.0     #: [N s]
+        self.time = 0.0        #: the model's time [s]
+
+    def point(self, k: int) -> float:
+        """Grid point ``k`` [s]."""
+        return self.origin + k * self.h
+
+    def last_point_by(self, t: float) -> int:
+        """The index of the last grid point at or before ``t`` [s] (to within :data:`SNAP`)."""
+        return max(self.k, math.floor((t - self.origin) / self.h + SNAP))
+
+    def impulse(self, q: float, t_from: float, t_to: float) -> float:
+        """The impulse of ``q`` [N] over ``[max(t_from, t_k), t_to]`` [N s] (0 if empty)."""
+        return q * max(t_to - max(t_from, self.point(self.k)), 0.0)
 
 
 class ElasticModel(ModelBase):
@@ -70,37 +134,70 @@ class ElasticModel(ModelBase):
             vectorised = not jit.enabled()
         self.vectorised = bool(vectorised)
         self._kernel = VECTORISED[effects] if vectorised else jit.compiled(KERNELS[effects])
-        self.time = 0.0
-        self._dt = 0.0  # the last internal step [s] (the discrete elastic energy needs it)
+        self.clock = Clock(g.h_max)
+        self._max_steps = params.max_internal_steps
         self.v1, self.N1 = np.zeros(g.n1), np.zeros(g.n1 + 1)
         self.v2, self.N2 = np.zeros(g.n2), np.zeros(g.n2 + 1)
         self.u1, self.u2 = np.zeros(g.cells1.size), np.zeros(g.cells2.size)
         self.acc = np.zeros(N_ACC)
-        self._rest = None   # at_rest() of the current state, once known
+        self._rest = None   # at_rest() of the current grid state, once known
         self._modes: list[tuple[int, int]] = []      # see modes()
 
+    @property
+    def time(self) -> float:
+        """The model's time [s] (the host's last communication point)."""
+        return self.clock.time
+
+    @time.setter
+    def time(self, value: float) -> None:
+        clock = self.clock
+        if clock.k == 0 and clock.pending == 0.0:
+            clock.origin = value          # the grid starts where the first step starts
+        clock.time = value
+
     def steps_for(self, h: float) -> int:
-        """Number of internal steps taken for a communication step ``h`` [s]."""
-        return max(1, math.ceil(h / self.grid.h_max - 1e-9))
+        """Number of internal steps a communication step of ``h`` [s] from the current time
+        takes (grid points it passes)."""
+        return self.clock.last_point_by(self.clock.time + h) - self.clock.k
 
     def _step_to(self, q: float, h: float, t_end: float) -> None:
-        """Advance by ``h`` [s] in equal internal steps under ``q`` [N], ending at ``t_end``
-        [s]; at rest under no load the steps change nothing and are skipped."""
-        if not (q == 0.0 and self.at_rest()):
-            n = self.steps_for(h)
-            dt = h / n
-            g = self.grid
-            self._kernel(n, dt, q, g.coef, self.v1, self.N1, self.v2, self.N2,
-                         g.cells1, self.u1, g.cells2, self.u2, self.acc)
-            self._dt = dt
-            self._rest = None
+        """Step the grid points up to ``t_end`` [s] under ``q`` [N] (the first with the
+        impulse pending since the last point); keep the impulse beyond the last one."""
+        clock = self.clock
+        k_end = clock.last_point_by(t_end)
+        n = k_end - clock.k
+        if n and not (q == 0.0 and clock.pending == 0.0 and self.at_rest()):
+            self._check_count(n, h)
+            first = clock.pending + clock.impulse(q, clock.time, clock.point(clock.k + 1))
+            self._steps(1, first / clock.h)
+            if n > 1:
+                self._steps(n - 1, q)
             mode = self._monitor_modes()
             if not self._modes or self._modes[-1] != mode:
                 self._modes.append(mode)
-        self.time = t_end
+        if n:
+            clock.k, clock.pending = k_end, 0.0
+        clock.pending += clock.impulse(q, clock.time, t_end)
+        clock.time = t_end
+
+    def _check_count(self, n: int, h: float) -> None:
+        """Refuse a communication step of more than ``max_internal_steps`` internal steps."""
+        if n > self._max_steps:
+            raise ParameterError(
+                "communicationStepSize", h,
+                f"at most max_internal_steps = {self._max_steps:g} internal steps of "
+                f"{self.clock.h!r} s while the pipe moves (raise max_internal_steps to allow "
+                f"longer steps)")
+
+    def _steps(self, n: int, q: float) -> None:
+        """``n`` internal steps under ``q`` [N]."""
+        g = self.grid
+        self._kernel(n, self.clock.h, q, g.coef, self.v1, self.N1, self.v2, self.N2, g.cells1,
+                     self.u1, g.cells2, self.u2, self.acc)
+        self._rest = None
 
     def outputs(self) -> Outputs:
-        """The contract's outputs at the current time (forces of the last internal step)."""
+        """The contract's outputs at the last grid point (forces of its internal step)."""
         g, acc = self.grid, self.acc
         v_pipe = _interpolate(self.v1, g.pipe)
         u_pipe = (1.0 - g.pipe.w) * self.u1[1] + g.pipe.w * self.u1[2]
@@ -108,10 +205,12 @@ class ElasticModel(ModelBase):
         if g.n2:
             v_plug = _interpolate(self.v2, g.plug)
             u_plug = (1.0 - g.plug.w) * self.u2[0] + g.plug.w * self.u2[1]
-        outer, inner = float(acc[W_OUTER]), float(acc[W_INNER])
+        outer, inner = _work(acc, W_OUTER), _work(acc, W_INNER)
+        kinetic, strain = self.energies()
         return Outputs(float(v_pipe), float(v_plug), float(u_pipe), float(u_plug),
-                       float(acc[F_OUT]), float(acc[F_IN]), float(acc[W_IN]), outer + inner,
-                       outer, inner, self.at_rest(), *self._monitor_modes())
+                       float(acc[F_OUT]), float(acc[F_IN]), _work(acc, W_IN), outer + inner,
+                       outer, inner, kinetic, strain, 0.0, self.at_rest(),
+                       *self._monitor_modes())
 
     def _monitor_modes(self) -> tuple[int, int]:
         """(pipe_mode, plug_mode) at the cell of x_monitor (and its plug cell)."""
@@ -127,12 +226,12 @@ class ElasticModel(ModelBase):
         return tuple(self._modes)
 
     def at_rest(self) -> bool:
-        """Every cell still, and one more internal step under Q = 0 (of the last step's
-        length) leaves every field, work and force unchanged, bit for bit."""
+        """No impulse pending, every cell still, and one more internal step under Q = 0 leaves
+        every field, work and force unchanged, bit for bit."""
         if self._rest is None:
             self._rest = (not self.v1.any() and not self.v2.any()
                           and self._trial_step_keeps_the_state())
-        return self._rest
+        return self._rest and self.clock.pending == 0.0
 
     def _trial_step_keeps_the_state(self) -> bool:
         """Take one step under Q = 0 on copies of the fields and compare the bits."""
@@ -140,28 +239,23 @@ class ElasticModel(ModelBase):
         before = [getattr(self, name) for name in _FIELDS]
         after = [field.copy() for field in before]
         v1, N1, v2, N2, u1, u2, acc = after
-        self._kernel(1, self._dt or g.h_max, 0.0, g.coef, v1, N1, v2, N2, g.cells1, u1,
-                     g.cells2, u2, acc)
+        self._kernel(1, self.clock.h, 0.0, g.coef, v1, N1, v2, N2, g.cells1, u1, g.cells2, u2,
+                     acc)
         return all(a.tobytes() == b.tobytes() for a, b in zip(before, after))
 
-    def energies(self) -> tuple[float, float, float]:
-        """Discrete energies of the scheme [J]: kinetic, elastic, and the reversing work.
-
-        The elastic energy is sum N^n N^(n-1) / (2 E S / dx) over the inner faces (the
-        staggered scheme's invariant), computed as (N^2 - (E S/dx) dt N dv) / (2 E S/dx). For
-        steps of equal length, ``W_input = kinetic + elastic + W_friction + reversing`` holds to
-        round-off; ``reversing`` (<= 0) is the friction work of steps in which a node's relative
-        velocity changed sign, kept out of the never-decreasing ``W_friction``.
-        """
-        c = self.grid.coef
-        kinetic = 0.5 * (c[M1] * self.v1 @ self.v1 + c[M2] * self.v2 @ self.v2)
-        elastic = (_elastic_energy(self.v1, self.N1, c[K1], self._dt)
-                   + _elastic_energy(self.v2, self.N2, c[K2], self._dt))
-        return float(kinetic), float(elastic), float(self.acc[W_NEG])
+    def energies(self) -> tuple[float, float]:
+        """The scheme's kinetic and strain energy at the last grid point [J] (module docstring),
+        both >= 0; ``W_input = kinetic + strain + W_friction`` to round-off."""
+        c, h = self.grid.coef, self.clock.h
+        pipe = _rod_energies(self.v1, self.N1, c[M1], c[K1], h)
+        plug = _rod_energies(self.v2, self.N2, c[M2], c[K2], h)
+        return pipe[0] + plug[0], pipe[1] + plug[1]
 
     def get_state(self) -> dict:
-        """A copy of the whole state: time, last step, fields, tracked displacements, works."""
-        state = {"time": self.time, "dt": self._dt}
+        """A copy of the whole state: clock, fields, tracked displacements, works."""
+        clock = self.clock
+        state = {"time": clock.time, "origin": clock.origin, "k": clock.k,
+                 "pending": clock.pending}
         state.update({name: getattr(self, name).copy() for name in _FIELDS})
         state["modes"] = np.array(self._modes, dtype=np.int64).reshape(-1, 2)
         return state
@@ -177,8 +271,14 @@ class ElasticModel(ModelBase):
             target[...] = value
         self._rest = None
         self._modes = [tuple(map(int, row)) for row in np.asarray(state["modes"]).reshape(-1, 2)]
-        self.time = float(state["time"])
-        self._dt = float(state["dt"])
+        clock = self.clock
+        clock.time, clock.origin = float(state["time"]), float(state["origin"])
+        clock.k, clock.pending = int(state["k"]), float(state["pending"])
+
+
+def _work(acc, index) -> float:
+    """A compensated sum of ``acc`` [J]: the sum and its accumulated rounding error."""
+    return float(acc[index] + acc[index + COMPENSATION])
 
 
 def _interpolate(values: np.ndarray, section: Section) -> float:
@@ -192,9 +292,13 @@ def _sign(value: float) -> int:
     return int(value > 0.0) - int(value < 0.0)
 
 
-def _elastic_energy(v: np.ndarray, N: np.ndarray, k: float, dt: float) -> float:
-    """Elastic energy of one rod, sum over inner faces of N^n N^(n-1) / (2k) [J]."""
-    if v.size < 2:
-        return 0.0
-    inner = N[1:-1]
-    return float(inner @ (inner - k * dt * np.diff(v)) / (2.0 * k))
+def _rod_energies(v: np.ndarray, N: np.ndarray, m: float, k: float, h: float) -> tuple:
+    """Kinetic and strain energy of one rod [J] (module docstring): velocities ``v`` [m/s] of
+    cells of mass ``m`` [kg], forces ``N`` [N] of the half step ahead at its faces, stiffness
+    ``k = E S / dx`` [N/m], internal step ``h`` [s]."""
+    if v.size == 0:
+        return 0.0, 0.0
+    dv = np.diff(v)
+    at_step = N[1:-1] - (0.5 * k * h) * dv
+    return (float(0.5 * m * (v @ v) - (0.125 * k * h * h) * (dv @ dv)),
+            float(at_step @ at_step / (2.0 * k)))

@@ -9,17 +9,33 @@ compiled loops in the same order, and every sum over cells is taken in the loops
 imported here.
 
 A variant is a list of parts, each a group of cells with its own contacts (pipe cells alone,
-pipe cells on the soil, coupled pipe and plug cells, ...); a part kicks and projects its cells
-and returns the impulses of the soil and of the plug on them. :func:`_loop` makes the kernel:
-the struck-end force, the parts, the input work and the drift of the rods, step after step.
+pipe cells on the soil, coupled pipe and plug cells, ...); a part kicks and projects its cells,
+keeping their impulses and friction works, and takes back shares of its projection when the
+step's friction work would be negative. :func:`_loop` makes the kernel: the struck-end force,
+the parts, the works and the drift of the rods, step after step.
 """
 from __future__ import annotations
 
 import numpy as np
 
 from ..contact.vectorised import TwoContacts, one_contact, pair_contact
-from .cells import soil_start
-from .kernels import C1, C2, DX, F_IN, F_OUT, K1, K2, M1, M2, W_IN, W_INNER, W_NEG, W_OUTER
+from .cells import accumulate, soil_start
+from .kernels import (
+    C1,
+    C2,
+    COMPENSATION,
+    DX,
+    F_IN,
+    F_OUT,
+    K1,
+    K2,
+    LIMITED,
+    M1,
+    M2,
+    W_IN,
+    W_INNER,
+    W_OUTER,
+)
 
 __all__ = ["VECTORISED"]
 
@@ -63,126 +79,184 @@ def _total(x):
     return x.cumsum()[-1] + 0.0 if x.size else 0.0
 
 
-def _book(acc, contact, works):
-    """Add friction works ``works`` [J] to ``acc``: the dissipated ones at ``contact``
-    (W_OUTER or W_INNER), the negative ones of reversing steps at W_NEG."""
-    acc[contact] += _total(np.maximum(works, 0.0))
-    acc[W_NEG] += _total(np.minimum(works, 0.0))
+def _share(f, r, w, x):
+    """:func:`pipeplug.elastic.cells.share` cell by cell (the same operations)."""
+    a = -f * (r + w)
+    b = -f * (x - w)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = a / -b
+    return np.where(a + b >= 0.0, 1.0, np.where(a <= 0.0, 0.0, ratio))
 
 
-def _free_part(cells):
+def _applied(lam, w, x):
+    """``cells._applied`` cell by cell: ``x`` where the whole impulse is applied."""
+    return np.where(lam == 1.0, x, w + lam * (x - w))
+
+
+class _Part:
+    """A group of cells with the same contacts. :meth:`project` kicks and projects them and
+    keeps what :meth:`limit` needs; ``f1``/``d1`` and ``f2``/``d2`` are the impulses [N s] and
+    works [J] at the soil and the plug contact (None where the part has no such contact)."""
+
+    f1 = d1 = f2 = d2 = None
+
+    def project(self):
+        """Kick and project the cells (the whole projection)."""
+
+    def limit(self):
+        """Take back the share of the projection of the cells whose work is negative
+        (:func:`pipeplug.elastic.cells.limit`)."""
+
+
+class _Free(_Part):
     """Cells touching nothing."""
-    def part():
-        cells.kick()
-        return None, None
-    return part
+
+    def __init__(self, cells):
+        self.project = cells.kick
 
 
-def _soil_part(cells, m, limit, acc):
+class _Soil(_Part):
     """Cells touching the soil alone, with impulse limits ``limit`` [N s] (an array is read at
     each step)."""
-    def part():
-        v = cells.v
-        x, f = one_contact(m, cells.trial(), limit, 0.0)
-        _book(acc, W_OUTER, -0.5 * f * (v + x))
+
+    def __init__(self, cells, m, limits):
+        self.cells, self.m, self.limits = cells, m, limits
+
+    def project(self):
+        v = self.cells.v
+        self.r, self.w = v.copy(), self.cells.trial()
+        x, self.f1 = one_contact(self.m, self.w, self.limits, 0.0)
+        self.d1 = -0.5 * self.f1 * (self.r + x)
         v[...] = x
-        return f, None
-    return part
+
+    def limit(self):
+        v, negative = self.cells.v, self.d1 < 0.0
+        lam = np.where(negative, _share(self.f1, self.r, self.w, v), 1.0)
+        v[...] = np.where(negative, _applied(lam, self.w, v), v)
+        self.f1 = np.where(negative, lam * self.f1, self.f1)
+        self.d1 = np.where(negative, -0.5 * self.f1 * (self.r + v), self.d1)
 
 
-def _plug_part(pipe, plug, m1, m2, c2, acc):
-    """Coupled pipe and plug cells, no soil."""
-    def part():
-        p, q = pipe.v, plug.v
-        x1, x2, f2 = pair_contact(m1, m2, pipe.trial(), plug.trial(), c2)
-        _book(acc, W_INNER, -0.5 * f2 * (p - q + x1 - x2))
+class _Coupled(_Part):
+    """Coupled pipe and plug cells; on the soil with limits ``c1`` as in :class:`_Soil`, or
+    without it (``c1`` None)."""
+
+    def __init__(self, pipe, plug, m1, m2, c1, c2):
+        self.pipe, self.plug, self.m1, self.m2, self.c1, self.c2 = pipe, plug, m1, m2, c1, c2
+        self.solve = None if c1 is None else TwoContacts(m1, m2, c2, 0.0, plug.v.size)
+
+    def project(self):
+        p, q = self.pipe.v, self.plug.v
+        self.r1, self.r2 = p.copy(), q.copy()
+        w1, w2 = self.w1, self.w2 = self.pipe.trial(), self.plug.trial()
+        if self.solve is None:
+            x1, x2, f2 = pair_contact(self.m1, self.m2, w1, w2, self.c2)
+        else:
+            x1, x2, f1, f2 = self.solve(w1, w2, self.c1)
+            if np.ndim(self.c1):
+                # Cells outside the soil's contact (limit 0) are the pair problem, as in the
+                # loops.
+                free = self.c1 == 0.0
+                if free.any():
+                    x1, x2, f1, f2 = x1.copy(), x2.copy(), f1.copy(), f2.copy()
+                    x1[free], x2[free], f2[free] = pair_contact(self.m1, self.m2, w1[free],
+                                                                w2[free], self.c2)
+                    f1[free] = 0.0
+            self.f1, self.d1 = f1, -0.5 * f1 * (self.r1 + x1)
+        self.f2, self.d2 = f2, -0.5 * f2 * (self.r1 - self.r2 + x1 - x2)
         p[...] = x1
         q[...] = x2
-        return None, f2
-    return part
+
+    def limit(self):
+        p, q = self.pipe.v, self.plug.v
+        negative = self.d2 < 0.0
+        lam = _share(self.f2, self.r1 - self.r2, self.w1 - self.w2, p - q)
+        if self.d1 is not None:
+            negative |= self.d1 < 0.0
+            lam = np.minimum(_share(self.f1, self.r1, self.w1, p), lam)
+        lam = np.where(negative, lam, 1.0)
+        p[...] = np.where(negative, _applied(lam, self.w1, p), p)
+        q[...] = np.where(negative, _applied(lam, self.w2, q), q)
+        self.f2 = np.where(negative, lam * self.f2, self.f2)
+        self.d2 = np.where(negative, -0.5 * self.f2 * (self.r1 - self.r2 + p - q), self.d2)
+        if self.d1 is not None:
+            self.f1 = np.where(negative, lam * self.f1, self.f1)
+            self.d1 = np.where(negative, -0.5 * self.f1 * (self.r1 + p), self.d1)
 
 
-def _plug_soil_part(pipe, plug, m1, m2, c1, c2, acc):
-    """Coupled pipe and plug cells with the pipe on the soil (limits ``c1`` as in
-    :func:`_soil_part`)."""
-    solve = TwoContacts(m1, m2, c2, 0.0, plug.v.size)
-    # The loops add both contacts' reversing works node by node: keep them interleaved.
-    works = np.empty(2 * plug.v.size)
-    outer_works, inner_works = works[0::2], works[1::2]
-
-    def part():
-        p, q = pipe.v, plug.v
-        w1, w2 = pipe.trial(), plug.trial()
-        x1, x2, f1, f2 = solve(w1, w2, c1)
-        if np.ndim(c1):
-            # Cells outside the soil's contact (limit 0) are the pair problem, as in the loops.
-            free = c1 == 0.0
-            if free.any():
-                x1, x2, f1, f2 = x1.copy(), x2.copy(), f1.copy(), f2.copy()
-                x1[free], x2[free], f2[free] = pair_contact(m1, m2, w1[free], w2[free], c2)
-                f1[free] = 0.0
-        np.multiply(-0.5 * f1, p + x1, out=outer_works)
-        np.multiply(-0.5 * f2, p - q + x1 - x2, out=inner_works)
-        p[...] = x1
-        q[...] = x2
-        acc[W_OUTER] += _total(np.maximum(outer_works, 0.0))
-        acc[W_INNER] += _total(np.maximum(inner_works, 0.0))
-        acc[W_NEG] += _total(np.minimum(works, 0.0))
-        return f1, f2
-    return part
-
-
-def _growth_part(u1, limits, c1, dx):
+class _Growth(_Part):
     """No cells: sets the soil limits [N s] of the pipe's cells to the penetrated share of
     each cell (contact growth) times the full-cell limit ``c1``; ``u1[0]`` is the displacement
     of the pipe's front cell [m]."""
-    ends = np.arange(1.0, limits.size + 1.0)        # cell ends, in cells from the struck end
 
-    def part():
-        start = soil_start(u1[0], limits.size, dx)
-        np.multiply(c1, np.minimum(np.maximum(ends - start, 0.0), 1.0), out=limits)
-        return None, None
-    return part
+    def __init__(self, u1, limits, c1, dx):
+        self.u1, self.limits, self.c1, self.dx = u1, limits, c1, dx
+        self.ends = np.arange(1.0, limits.size + 1.0)   # cell ends, in cells from the struck end
+
+    def project(self):
+        start = soil_start(self.u1[0], self.limits.size, self.dx)
+        np.multiply(self.c1, np.minimum(np.maximum(self.ends - start, 0.0), 1.0),
+                    out=self.limits)
 
 
 def _loop(variant):
     """The kernel of ``variant``.
 
-    ``variant(v1, N1, v2, N2, u1, coef, dt, acc)`` returns the parts of one step, in order; a
-    part is a function of no arguments returning the impulses of the soil and of the plug on
-    its cells [N s] (arrays, or None).
+    ``variant(v1, N1, v2, N2, u1, coef, dt)`` returns the parts (:class:`_Part`) of one step,
+    in order, and whether the rods have soil friction and a plug.
     """
     def kernel(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
-        N1[0] = -q
+        N1[0] = 0.0 - q         # +0.0 under no load, as a fresh model holds it
         rods = [_Rod(v1, N1, cells1, u1, coef[K1] * dt, dt)]
         if v2.size:
             rods.append(_Rod(v2, N2, cells2, u2, coef[K2] * dt, dt))
-        drifts = [rod.drift for rod in rods]
-        parts = variant(v1, N1, v2, N2, u1, coef, dt, acc)
+        parts, friction = variant(v1, N1, v2, N2, u1, coef, dt)
         half_impulse = 0.5 * q * dt
-        w_in = acc[W_IN]
-        impulses = []
         for _ in range(n):
             v_first = v1[0]
-            impulses = [part() for part in parts]
-            w_in += half_impulse * (v_first + v1[0])
-            for drift in drifts:
-                drift()
-        acc[W_IN] = w_in
-        acc[F_OUT] = _sum_of_totals(outer for outer, _ in impulses) / dt
-        acc[F_IN] = _sum_of_totals(inner for _, inner in impulses) / dt
+            for part in parts:
+                part.project()
+            if friction:
+                _friction_works(parts, acc)
+            accumulate(acc, W_IN, W_IN + COMPENSATION, half_impulse * (v_first + v1[0]))
+            for rod in rods:
+                rod.drift()
+        if friction:
+            acc[F_OUT] = _sum_of_totals(part.f1 for part in parts) / dt
+            acc[F_IN] = _sum_of_totals(part.f2 for part in parts) / dt
+        else:
+            acc[F_OUT] = acc[F_IN] = 0.0
     kernel.__name__ = kernel.__qualname__ = variant.__name__
     kernel.__doc__ = variant.__doc__
     return kernel
 
 
+def _friction_works(parts, acc):
+    """Book a step's friction works [J] at the soil and the plug, as the loops do: summed over
+    the cells; if one is negative, the parts take back their shares and they are summed again."""
+    outer, inner = _works(parts)
+    if outer < 0.0 or inner < 0.0:
+        for part in parts:
+            part.limit()
+        outer, inner = _works(parts)
+        acc[LIMITED] += 1.0
+    accumulate(acc, W_OUTER, W_OUTER + COMPENSATION, max(outer, 0.0))
+    accumulate(acc, W_INNER, W_INNER + COMPENSATION, max(inner, 0.0))
+
+
+def _works(parts):
+    """The step's friction works at the soil and at the plug [J]: each part's sum over its
+    cells in order, the parts' in order (the loops' sums)."""
+    outer = [_total(part.d1) for part in parts if part.d1 is not None]
+    inner = [_total(part.d2) for part in parts if part.d2 is not None]
+    return (outer[0] + outer[1] if len(outer) == 2 else (outer[0] if outer else 0.0),
+            inner[0] if inner else 0.0)
+
+
 def _sum_of_totals(arrays):
     """The loops' sum of the parts' impulses: each part's in order, then the parts'."""
-    total = 0.0
-    for array in arrays:
-        if array is not None:
-            total += _total(array)
-    return total
+    totals = [_total(array) for array in arrays if array is not None]
+    return totals[0] + totals[1] if len(totals) == 2 else (totals[0] if totals else 0.0)
 
 
 def _pipe_cells(v1, N1, lo, hi, coef, dt):
@@ -196,60 +270,58 @@ def _plug_cells(v1, N1, v2, N2, coef, dt):
 
 
 @_loop
-def run_pipe(v1, N1, v2, N2, u1, coef, dt, acc):
+def run_pipe(v1, N1, v2, N2, u1, coef, dt):
     """Pipe alone, no friction."""
-    return [_free_part(_pipe_cells(v1, N1, 0, v1.size, coef, dt))]
+    return [_Free(_pipe_cells(v1, N1, 0, v1.size, coef, dt))], False
 
 
 @_loop
-def run_pipe_soil(v1, N1, v2, N2, u1, coef, dt, acc):
+def run_pipe_soil(v1, N1, v2, N2, u1, coef, dt):
     """Pipe on the soil over its whole length."""
     cells = _pipe_cells(v1, N1, 0, v1.size, coef, dt)
-    return [_soil_part(cells, coef[M1], dt * coef[C1], acc)]
+    return [_Soil(cells, coef[M1], dt * coef[C1])], True
 
 
 @_loop
-def run_pipe_soil_growth(v1, N1, v2, N2, u1, coef, dt, acc):
+def run_pipe_soil_growth(v1, N1, v2, N2, u1, coef, dt):
     """Pipe on the soil over the penetrated length."""
     limits = np.empty(v1.size)
     cells = _pipe_cells(v1, N1, 0, v1.size, coef, dt)
-    return [_growth_part(u1, limits, dt * coef[C1], coef[DX]),
-            _soil_part(cells, coef[M1], limits, acc)]
+    return [_Growth(u1, limits, dt * coef[C1], coef[DX]), _Soil(cells, coef[M1], limits)], True
 
 
 @_loop
-def run_pipe_plug(v1, N1, v2, N2, u1, coef, dt, acc):
+def run_pipe_plug(v1, N1, v2, N2, u1, coef, dt):
     """Pipe and plug, no soil friction."""
     j0 = v1.size - v2.size
-    coupled = _plug_part(*_plug_cells(v1, N1, v2, N2, coef, dt), coef[M1], coef[M2],
-                         dt * coef[C2], acc)
-    return ([_free_part(_pipe_cells(v1, N1, 0, j0, coef, dt))] if j0 else []) + [coupled]
+    coupled = _Coupled(*_plug_cells(v1, N1, v2, N2, coef, dt), coef[M1], coef[M2], None,
+                       dt * coef[C2])
+    return ([_Free(_pipe_cells(v1, N1, 0, j0, coef, dt))] if j0 else []) + [coupled], True
 
 
 @_loop
-def run_pipe_plug_soil(v1, N1, v2, N2, u1, coef, dt, acc):
+def run_pipe_plug_soil(v1, N1, v2, N2, u1, coef, dt):
     """Pipe, plug and soil over the whole pipe length."""
-    return _soil_and_plug(v1, N1, v2, N2, coef, dt, acc, dt * coef[C1])
+    return _soil_and_plug(v1, N1, v2, N2, coef, dt, dt * coef[C1]), True
 
 
 @_loop
-def run_pipe_plug_soil_growth(v1, N1, v2, N2, u1, coef, dt, acc):
+def run_pipe_plug_soil_growth(v1, N1, v2, N2, u1, coef, dt):
     """Pipe, plug and soil over the penetrated length."""
     limits = np.empty(v1.size)
-    return ([_growth_part(u1, limits, dt * coef[C1], coef[DX])]
-            + _soil_and_plug(v1, N1, v2, N2, coef, dt, acc, limits))
+    return ([_Growth(u1, limits, dt * coef[C1], coef[DX])]
+            + _soil_and_plug(v1, N1, v2, N2, coef, dt, limits)), True
 
 
-def _soil_and_plug(v1, N1, v2, N2, coef, dt, acc, limits):
+def _soil_and_plug(v1, N1, v2, N2, coef, dt, limits):
     """Parts of pipe cells on the soil alone (if any) and of the coupled cells; ``limits`` [N s]
     a float or an array over the pipe's cells."""
     j0 = v1.size - v2.size
     m1, m2, c2 = coef[M1], coef[M2], dt * coef[C2]
     outer, coupled = (limits[:j0], limits[j0:]) if np.ndim(limits) else (limits, limits)
-    parts = [_plug_soil_part(*_plug_cells(v1, N1, v2, N2, coef, dt), m1, m2, coupled, c2, acc)]
+    parts = [_Coupled(*_plug_cells(v1, N1, v2, N2, coef, dt), m1, m2, coupled, c2)]
     if j0:
-        cells = _pipe_cells(v1, N1, 0, j0, coef, dt)
-        parts.insert(0, _soil_part(cells, m1, outer, acc))
+        parts.insert(0, _Soil(_pipe_cells(v1, N1, 0, j0, coef, dt), m1, outer))
     return parts
 
 

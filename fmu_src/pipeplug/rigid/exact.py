@@ -51,8 +51,7 @@ from .record import (
 __all__ = ["RigidExact", "KERNELS"]
 
 #: the entry points of the solver (compiled together when numba is used)
-KERNELS = (stepping.step_to, stepping.start_piece, stepping.sample_into, stepping.outputs_at,
-           stepping.kinetic_energy)
+KERNELS = (stepping.step_to, stepping.start_piece, stepping.sample_into, stepping.outputs_at)
 _STATE_KEYS = ("time", "t0", "U1", "V1", "U2", "V2", "W_in", "W_outer", "W_inner", "Q", "kick",
                "horizon")
 _STATE_SLOTS = (TIME, T0, U1, V1, U2, V2, W_IN, W_OUTER, W_INNER, Q, KICK, HORIZON)
@@ -102,7 +101,7 @@ class RigidExact(ModelBase):
         self._st = _FRESH.copy() if self.compiled else list(_FRESH_LIST)
         self._log = np.zeros(_LOG_SIZE) if self.compiled else [0.0] * _LOG_SIZE
         self._modes: list[tuple[int, int]] = []     # taken from the log; see modes()
-        (self._step, self._start, self._sample, self._outputs, self._kinetic) = fns
+        (self._step, self._start, self._sample, self._outputs) = fns
 
     @property
     def time(self) -> float:
@@ -180,15 +179,11 @@ class RigidExact(ModelBase):
     def outputs(self) -> Outputs:
         """The contract's outputs at the current time."""
         out = self._outputs(self._st, self._par, self._st[TIME])
-        return Outputs._make((*out[:10], out[10] != 0.0, int(out[11]), int(out[12])))
+        return Outputs._make((*out[:13], out[13] != 0.0, int(out[14]), int(out[15])))
 
     def at_rest(self) -> bool:
         """Both bodies stuck with no load: a step under Q = 0 changes nothing but the time."""
         return bool(stepping.at_rest(self._st))
-
-    def energies(self) -> tuple[float, float, float]:
-        """Kinetic energy [J]; rigid bodies store no elastic energy and reverse no work."""
-        return float(self._kinetic(self._st, self._par)), 0.0, 0.0
 
     def modes(self) -> tuple[tuple[int, int], ...]:
         """Every piece's contact modes (pipe_mode, plug_mode) in order, repeats merged."""

@@ -13,8 +13,9 @@ trial velocities are projected with impulse limits ``tau P1 Lc(U1^n) tau1`` and
 (zero relative velocity, passive friction). Model II evaluates the contact length at ``U1^n``.
 
 First order in ``tau`` where the friction switches; exact between switches for model I.
-Energy: ``W_input - W_friction - KE = sum M dv^2 / 2 >= 0`` (the scheme's numerical
-dissipation, O(tau)).
+Energy: ``W_input - W_friction - KE = sum M dv^2 / 2 >= 0``, the scheme's numerical dissipation
+(O(tau)), output as ``W_numerical``: the input and friction powers are taken at the step's end
+velocity, so every change of velocity costs the kinetic energy of its jump.
 """
 from __future__ import annotations
 
@@ -25,11 +26,12 @@ import numpy as np
 from ..contact.coulomb import SLACK, one_contact, two_contacts
 from ..contact.outer import limit, outer_contact_for
 from ..interface import ModelBase, Outputs
+from ..params import ParameterError
 
 __all__ = ["RigidFd", "internal_steps"]
 
-_STATE_KEYS = ("time", "U1", "V1", "U2", "V2", "W_in", "W_outer", "W_inner", "f1", "f2", "s1",
-               "s2", "p_max")
+_STATE_KEYS = ("time", "U1", "V1", "U2", "V2", "W_in", "W_outer", "W_inner", "W_num", "f1", "f2",
+               "s1", "s2", "p_max")
 # Velocities carry round-off of the largest momentum the run has seen: a trial momentum within
 # this share of it from a friction limit sticks (else a body whose load equals its limit
 # slides on forever at 1e-13 m/s after a grazing stop).
@@ -55,6 +57,7 @@ class RigidFd(ModelBase):
     def __init__(self, params, options):
         self.M1, self.M2, self.F2 = params.M1, params.M2, params.F2
         self.dt_max = params.dt
+        self._max_steps = params.max_internal_steps
         self.outer = outer_contact_for(params.P1, params.L1, params.tau1, options.contact_growth)
         self._step = self._step_pair if params.has_plug else self._step_alone
         self.time = 0.0
@@ -68,6 +71,12 @@ class RigidFd(ModelBase):
         s = self._s
         if not (q == 0.0 and self.at_rest()):
             n = internal_steps(h, self.dt_max)
+            if n > self._max_steps:
+                raise ParameterError(
+                    "communicationStepSize", h,
+                    f"at most max_internal_steps = {self._max_steps:g} internal steps of at "
+                    f"most dt = {self.dt_max!r} s while the bodies move (raise "
+                    f"max_internal_steps or dt to allow longer steps)")
             tau = h / n
             for _ in range(n):
                 self._step(s, q, tau)
@@ -102,6 +111,7 @@ class RigidFd(ModelBase):
         s["p_max"] = max(s["p_max"], self.M1 * abs(v1) + self.M2 * abs(v2))
         s["U1"] += tau * v1
         s["U2"] += tau * v2
+        s["W_num"] += 0.5 * (self.M1 * (v1 - s["V1"]) ** 2 + self.M2 * (v2 - s["V2"]) ** 2)
         s["V1"], s["V2"] = v1, v2
         s["W_in"] += q * tau * v1
         s["W_outer"] -= p1 * v1
@@ -113,14 +123,10 @@ class RigidFd(ModelBase):
     def outputs(self) -> Outputs:
         """The contract's outputs (velocities: the last step's (U^{n+1} - U^n)/tau)."""
         s = self._s
+        kinetic = 0.5 * (self.M1 * s["V1"] ** 2 + self.M2 * s["V2"] ** 2)
         return Outputs(s["V1"], s["V2"], s["U1"], s["U2"], s["f1"], s["f2"], s["W_in"],
-                       s["W_outer"] + s["W_inner"], s["W_outer"], s["W_inner"], self.at_rest(),
-                       int(s["s1"]), int(s["s2"]))
-
-    def energies(self) -> tuple[float, float, float]:
-        """Kinetic energy of the last step velocities [J]; no elastic or reversing work."""
-        s = self._s
-        return 0.5 * (self.M1 * s["V1"] ** 2 + self.M2 * s["V2"] ** 2), 0.0, 0.0
+                       s["W_outer"] + s["W_inner"], s["W_outer"], s["W_inner"], kinetic, 0.0,
+                       s["W_num"], self.at_rest(), int(s["s1"]), int(s["s2"]))
 
     def modes(self) -> tuple[tuple[int, int], ...]:
         """Every internal step's contact modes (pipe_mode, plug_mode), repeats merged."""

@@ -64,7 +64,7 @@ from .record import (
 
 __all__ = ["OK", "TOO_MANY_EVENTS", "SEGMENT_MISSED", "LOAD_NOT_FINITE", "LOG_FULL",
            "MAX_EVENTS_PER_STEP", "step_to", "start_piece", "sample_into", "outputs_at",
-           "kinetic_energy", "at_rest", "log_mode", "mode_of", "mode_code"]
+           "at_rest", "log_mode", "mode_of", "mode_code"]
 
 #: return codes
 OK, TOO_MANY_EVENTS, SEGMENT_MISSED, LOAD_NOT_FINITE, LOG_FULL = 0, 1, 2, 3, 4
@@ -274,14 +274,17 @@ def at_rest(st):
 
 @jitable
 def outputs_at(st, par, t):
-    """The 13 outputs of :data:`pipeplug.interface.OUTPUTS` at absolute time(s) ``t`` [s]
-    inside the current piece (floats; at_rest and the modes as 0.0/1.0 and -1.0/0.0/1.0)."""
+    """The 16 outputs of :data:`pipeplug.interface.OUTPUTS` at absolute time(s) ``t`` [s]
+    inside the current piece (floats; at_rest and the modes as 0.0/1.0 and -1.0/0.0/1.0).
+    Rigid bodies store no strain energy, and the exact solution dissipates nothing but
+    friction work."""
     u1, v1, u2, v2, w_in, w_outer, w_inner = values_at(st, par, t)
     f1, f2 = forces_of(st, par, u1)
     zero = 0.0 * u1                                   # (arrays for dense output)
     rest = (1.0 if at_rest(st) else 0.0) + zero
-    return (v1, v2, u1, u2, f1, f2, w_in, w_outer + w_inner, w_outer, w_inner, rest,
-            st[S1] + zero, st[S2] + zero)
+    kinetic = 0.5 * (par[P_M1] * v1 * v1 + par[P_M2] * v2 * v2)
+    return (v1, v2, u1, u2, f1, f2, w_in, w_outer + w_inner, w_outer, w_inner, kinetic, zero,
+            zero, rest, st[S1] + zero, st[S2] + zero)
 
 
 @jitable(inline=True)
@@ -291,17 +294,10 @@ def _kinematics_at(st, par, t):
 
 
 @jitable
-def kinetic_energy(st, par):
-    """Kinetic energy [J] at the current time."""
-    v1, v2, _, _ = _kinematics_at(st, par, st[TIME])
-    return 0.5 * (par[P_M1] * v1 * v1 + par[P_M2] * v2 * v2)
-
-
-@jitable
 def sample_into(st, par, log, loads, times, table, first):
     """Dense output: advance through ``times[first:]`` [s] under the struck-end force
     ``loads[j]`` [N] over the interval ending at ``times[j]``, writing the outputs at
-    ``times[j]`` into ``table[:, j]``: all of :data:`pipeplug.interface.OUTPUTS` (13 rows) or
+    ``times[j]`` into ``table[:, j]``: all of :data:`pipeplug.interface.OUTPUTS` (16 rows) or
     the kinematics alone (their first four); modes logged as by :func:`step_to`.
 
     Each piece is evaluated for all the sample times it covers at once, so a long record costs
@@ -377,7 +373,7 @@ def _fill_loop(st, par, times, lo, hi, table):
     for j in range(lo, hi):
         (table[0, j], table[1, j], table[2, j], table[3, j], table[4, j], table[5, j],
          table[6, j], table[7, j], table[8, j], table[9, j], table[10, j], table[11, j],
-         table[12, j]) = outputs_at(st, par, times[j])
+         table[12, j], table[13, j], table[14, j], table[15, j]) = outputs_at(st, par, times[j])
 
 
 @compiled_form(_fill_loop)

@@ -21,10 +21,9 @@ def impedance(p: Params) -> float:
 
 
 def energy_residual(model) -> float:
-    """W_input - (kinetic + elastic + W_friction + reversing work) [J]."""
-    kinetic, elastic_energy, reversing = model.energies()
+    """W_input - (E_kinetic + E_strain + W_friction) [J]."""
     out = model.outputs()
-    return out.W_input - (kinetic + elastic_energy + out.W_friction + reversing)
+    return out.W_input - (out.E_kinetic + out.E_strain + out.W_friction)
 
 
 def sample(model, loads, h):

@@ -48,14 +48,39 @@ def test_plug_length_is_free_when_the_plug_is_not_simulated():
     assert elastic(dx=0.1, L1=0.3, L2=0.3, x_monitor=0.1).v1.size == 3  # 0.3/0.1 = 2.9999999999999996
 
 
-def test_communication_step_is_cut_into_equal_steps_of_at_most_h_max():
-    model = elastic(dx=0.01)
+def test_internal_steps_are_the_points_of_one_grid_of_times():
+    """Every internal step is h_max long; a communication step takes the grid points it
+    passes (within 1e-6 h_max of its end counts) and holds the load's impulse beyond them."""
+    model = elastic(dx=0.01, tau2=0.0)
     h_max = 0.01 / model.params.c1
     assert model.grid.h_max == pytest.approx(h_max, rel=1e-15)
-    for h, n in ((3 * h_max, 3), (3 * h_max * (1 + 1e-12), 3), (3.5 * h_max, 4), (1e-9, 1)):
-        assert model.steps_for(h) == n
+    h = model.clock.h
+    for step, n in ((3 * h, 3), (3 * h * (1 + 1e-12), 3), (3 * h * (1 - 1e-9), 3),
+                    (3.5 * h, 3), (1e-9, 0)):
+        assert model.steps_for(step) == n
+    model.advance(1000.0, 2.5 * h)
+    assert model.clock.k == 2 and model.clock.pending == pytest.approx(500.0 * h, rel=1e-12)
+    at_point = model.outputs()
+    model.advance(-3000.0, 0.25 * h)                     # still before grid point 3
+    assert model.outputs() == at_point                   # the outputs of grid point 2
+    assert model.clock.pending == pytest.approx(-250.0 * h, rel=1e-12)
+    model.advance(0.0, 0.25 * h)                         # reaches grid point 3
+    assert model.clock.k == 3 and model.clock.pending == 0.0
+    p = model.params
+    momentum = p.rho1 * p.S1 * p.dx * model.v1.sum()
+    assert momentum == pytest.approx(1750.0 * h, rel=1e-12)   # 1000 * 2.5 h - 3000 * 0.25 h
     slow_plug = elastic(dx=0.01, E2=1e12)  # the plug is now the faster rod
     assert slow_plug.grid.h_max == pytest.approx(0.01 / slow_plug.params.c2, rel=1e-15)
+
+
+def test_a_step_of_too_many_internal_steps_is_refused_unless_at_rest():
+    model = elastic(dx=0.01, max_internal_steps=1000.0)
+    h = model.clock.h
+    model.advance(0.0, 5000 * h)                          # at rest: no internal steps
+    model.advance(23000.0, 1000 * h)
+    with pytest.raises(ParameterError) as info:
+        model.advance(0.0, 1001 * h)
+    assert info.value.name == "communicationStepSize" and "max_internal_steps" in str(info.value)
 
 
 @pytest.mark.parametrize("x", [0.0, 0.004, 0.25, 0.5, 0.6049, 0.8, 0.995, 1.0])

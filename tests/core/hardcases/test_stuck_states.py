@@ -82,6 +82,6 @@ def test_elastic_rods_at_rest_are_a_fixed_point():
     m = model("elastic", {"tau1": 2e4, "tau2": 1e4, "dx": 0.1})
     _stop(m, Q0)
     assert np.abs(m.get_state()["N1"]).max() > 0.0        # stresses are locked in
-    _assert_fixed_point(m, 0.0, m._dt)
+    _assert_fixed_point(m, 0.0, m.clock.h)
     m._rest = None                          # the fields were stepped behind the model's back
     assert m.at_rest() and m.outputs().at_rest
