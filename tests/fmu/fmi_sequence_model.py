@@ -25,7 +25,8 @@ DEFAULTS = {"L1": 1.0, "L2": 1.0, "R1": 0.035, "h1": 0.003, "rho1": 7800.0, "rho
             "solver": "exact"}
 OPTIONS = ("solver", "contact_growth", "elastic")
 REAL_OUTPUTS = ("v_pipe", "v_plug", "u_pipe", "u_plug", "F_outer", "F_inner", "W_input",
-                "W_friction", "W_friction_outer", "W_friction_inner")
+                "W_friction", "W_friction_outer", "W_friction_inner", "E_kinetic", "E_strain",
+                "W_numerical")
 MODES = ("pipe_mode", "plug_mode")
 FLAGS = ("at_rest",)
 OK, DISCARD, ERROR = 0, 2, 3

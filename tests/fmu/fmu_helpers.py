@@ -24,6 +24,7 @@ CONTRACT_PARAMETERS = {
     "tau2": ("Pa", 1.0e4, 0.0, None), "dt": ("s", 2.0e-4, 0.0, None),
     "dx": ("m", 0.01, 0.0, None), "courant": ("1", 1.0, 0.0, 1.0),
     "x_monitor": ("m", 0.5, 0.0, None),
+    "max_internal_steps": ("1", 1e8, 1.0, None),      # not in the contract: the project's own
 }
 CONTRACT_OPTIONS = {"contact_growth": ("Boolean", "false"), "elastic": ("Boolean", "false"),
                     "solver": ("String", "exact")}
@@ -32,6 +33,8 @@ CONTRACT_OUTPUTS = {"v_pipe": ("Real", "m/s"), "v_plug": ("Real", "m/s"), "u_pip
                     "u_plug": ("Real", "m"), "F_outer": ("Real", "N"), "F_inner": ("Real", "N"),
                     "W_input": ("Real", "J"), "W_friction": ("Real", "J"),
                     "W_friction_outer": ("Real", "J"), "W_friction_inner": ("Real", "J"),
+                    "E_kinetic": ("Real", "J"), "E_strain": ("Real", "J"),
+                    "W_numerical": ("Real", "J"),      # not in the contract: the project's own
                     "at_rest": ("Boolean", None), "pipe_mode": ("Integer", None),
                     "plug_mode": ("Integer", None)}
 #: Output name -> name in pipeplug_references.closed_form.solution

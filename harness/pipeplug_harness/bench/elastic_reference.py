@@ -9,7 +9,9 @@ Used by :mod:`pipeplug_harness.bench.elastic` to time the package's kernels agai
     called through ctypes.
 
 All follow the scheme of :mod:`pipeplug.elastic.cells` step by step: kick, Coulomb projection of
-each cell, drift of the inner-face forces, tracked displacements, works. The joint projection of
+each cell, friction works (a step whose summed work at a contact would be negative takes back the
+share of each cell whose own work is negative), drift of the inner-face forces, tracked
+displacements, works (plain sums: the core's compensated sums differ by their rounding error). The joint projection of
 pipe, plug and soil in :func:`run_numpy_full` is solved here in closed form (the plug's friction
 as a function of the pipe's velocity, then the pipe's), not with the core's pattern table, so the
 two agree to round-off, not bit for bit.
@@ -30,9 +32,19 @@ __all__ = ["run_numpy", "run_numpy_full", "build_c", "run_c", "C_SOURCE"]
 
 _SLACK = 1e-13
 # coefficient and accumulator indices of pipeplug.elastic.kernels (M1, K1, M2, K2, C1, C2, DX;
-# W_IN, W_OUTER, W_INNER, W_NEG, F_OUT, F_IN), repeated here: the core is not imported
+# W_IN, W_OUTER, W_INNER, F_OUT, F_IN, 3 rounding errors, LIMITED), repeated here: the core is not
+# imported
 _M1, _K1, _M2, _K2, _C1, _C2, _DX = range(7)
-_W_IN, _W_OUTER, _W_INNER, _W_NEG, _F_OUT, _F_IN = range(6)
+_W_IN, _W_OUTER, _W_INNER, _F_OUT, _F_IN = range(5)
+_LIMITED = 8
+
+
+def _share(f, r, w, x):
+    """The share of a projected impulse ``f`` whose friction work is not negative (relative
+    velocities before the step ``r``, after the kick ``w``, after the projection ``x``)."""
+    a, b = -f * (r + w), -f * (x - w)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(a + b >= 0.0, 1.0, np.where(a <= 0.0, 0.0, a / -b))
 
 
 def run_numpy(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
@@ -47,16 +59,20 @@ def run_numpy(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
         v_first = v1[0]
         p_old, q_old = v1[j0:].copy(), v2.copy()
         v1 += a1 * np.diff(N1)
-        w1, w2 = v1[j0:], v2 + a2 * np.diff(N2)
+        w1, w2 = v1[j0:].copy(), v2 + a2 * np.diff(N2)
         x = (m1 * w1 + m2 * w2) / (m1 + m2)
         f_stuck = -m2 * (x - w2)
         stuck = np.abs(f_stuck) - c2 <= _SLACK * (np.abs(m1 * w1) + np.abs(m2 * w2) + c2)
         f2 = np.where(stuck, np.clip(f_stuck, -c2, c2), np.where(w1 > w2, -c2, c2))
-        v1[j0:] = np.where(stuck, x, w1 + f2 / m1)
-        v2[:] = np.where(stuck, x, w2 - f2 / m2)
-        d = -0.5 * f2 * (p_old - q_old + v1[j0:] - v2)
-        acc[_W_INNER] += d[d >= 0.0].sum()
-        acc[_W_NEG] += d[d < 0.0].sum()
+        x1, x2 = np.where(stuck, x, w1 + f2 / m1), np.where(stuck, x, w2 - f2 / m2)
+        d = -0.5 * f2 * (p_old - q_old + x1 - x2)
+        if d.sum() < 0.0:
+            lam = np.where(d < 0.0, _share(f2, p_old - q_old, w1 - w2, x1 - x2), 1.0)
+            x1, x2, f2 = w1 + lam * (x1 - w1), w2 + lam * (x2 - w2), lam * f2
+            d = -0.5 * f2 * (p_old - q_old + x1 - x2)
+            acc[_LIMITED] += 1.0
+        v1[j0:], v2[:] = x1, x2
+        acc[_W_INNER] += max(d.sum(), 0.0)
         impulse = f2.sum()
         acc[_W_IN] += 0.5 * q * dt * (v_first + v1[0])
         N1[1:-1] += b1 * np.diff(v1)
@@ -93,9 +109,15 @@ def run_numpy_full(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
         v1[j0:], v2[:] = x1, x2
         d_outer = -0.5 * np.concatenate((f_soil, f1)) * (p_old + v1)
         d_inner = -0.5 * f2 * (p_old[j0:] - q_old + x1 - x2)
-        acc[_W_OUTER] += d_outer[d_outer >= 0.0].sum()
-        acc[_W_INNER] += d_inner[d_inner >= 0.0].sum()
-        acc[_W_NEG] += d_outer[d_outer < 0.0].sum() + d_inner[d_inner < 0.0].sum()
+        if d_outer.sum() < 0.0 or d_inner.sum() < 0.0:
+            f_soil, f1, f2 = _limit(v1, v2, j0, p_old, q_old, w1, w2, f_soil, f1, f2,
+                                    d_outer, d_inner)
+            x1, x2 = v1[j0:], v2
+            d_outer = -0.5 * np.concatenate((f_soil, f1)) * (p_old + v1)
+            d_inner = -0.5 * f2 * (p_old[j0:] - q_old + x1 - x2)
+            acc[_LIMITED] += 1.0
+        acc[_W_OUTER] += max(d_outer.sum(), 0.0)
+        acc[_W_INNER] += max(d_inner.sum(), 0.0)
         outer, inner = f_soil.sum() + f1.sum(), f2.sum()
         acc[_W_IN] += 0.5 * q * dt * (v_first + v1[0])
         N1[1:-1] += b1 * np.diff(v1)
@@ -104,6 +126,21 @@ def run_numpy_full(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
         u2 += dt * v2[cells2]
     acc[_F_OUT] = outer / dt
     acc[_F_IN] = inner / dt
+
+
+def _limit(v1, v2, j0, p_old, q_old, w1, w2, f_soil, f1, f2, d_outer, d_inner):
+    """Take back the share of the projection of every cell whose work at either contact is
+    negative (in place on ``v1``, ``v2``); returns the impulses."""
+    alone = d_outer[:j0] < 0.0
+    lam = np.where(alone, _share(f_soil, p_old[:j0], w1[:j0], v1[:j0]), 1.0)
+    v1[:j0] = np.where(alone, w1[:j0] + lam * (v1[:j0] - w1[:j0]), v1[:j0])
+    f_soil = lam * f_soil
+    both = (d_outer[j0:] < 0.0) | (d_inner < 0.0)
+    p, x1, x2 = p_old[j0:], v1[j0:], v2
+    lam = np.minimum(_share(f1, p, w1[j0:], x1), _share(f2, p - q_old, w1[j0:] - w2, x1 - x2))
+    lam = np.where(both, lam, 1.0)
+    v1[j0:], v2[:] = w1[j0:] + lam * (x1 - w1[j0:]), w2 + lam * (x2 - w2)
+    return f_soil, lam * f1, lam * f2
 
 
 def _pipe_plug_soil(m1, m2, w1, w2, c1, c2):
@@ -131,6 +168,7 @@ def _pipe_plug_soil(m1, m2, w1, w2, c1, c2):
 C_SOURCE = r"""
 #include <math.h>
 #include <stdint.h>
+#include <stdlib.h>
 #define SLACK 1e-13
 
 static void pair(double m1, double m2, double w1, double w2, double c2,
@@ -145,34 +183,58 @@ static void pair(double m1, double m2, double w1, double w2, double c2,
     *x1 = w1 + f / m1; *x2 = w2 - f / m2; *f2 = f;
 }
 
+static double share(double f, double r, double w, double x) {
+    double a = -f * (r + w), b = -f * (x - w);
+    return a + b >= 0.0 ? 1.0 : (a <= 0.0 ? 0.0 : a / -b);
+}
+
 void run_pipe_plug(int64_t n, double dt, double q, const double *coef, double *v1, double *N1,
                    int64_t n1, double *v2, double *N2, int64_t n2, const int64_t *cells1, double *u1,
                    int64_t t1, const int64_t *cells2, double *u2, int64_t t2, double *acc) {
     double m1 = coef[0], m2 = coef[2], a1 = dt / m1, a2 = dt / m2, c2 = dt * coef[5];
     double b1 = coef[1] * dt, b2 = coef[3] * dt, inner = 0.0;
     int64_t j0 = n1 - n2;
+    double *r = malloc(4 * (n2 > 0 ? n2 : 1) * sizeof(double)), *w = r + n2, *f = w + n2,
+           *d = f + n2;
     N1[0] = -q;
     for (int64_t s = 0; s < n; ++s) {
-        double v_first = v1[0], work = 0.0, neg = 0.0;
+        double v_first = v1[0], work = 0.0;
         for (int64_t j = 0; j < j0; ++j) v1[j] += a1 * (N1[j + 1] - N1[j]);
-        inner = 0.0;
         for (int64_t k = 0; k < n2; ++k) {
             int64_t j = j0 + k;
             double p_old = v1[j], q_old = v2[k], x1, x2, f2;
-            pair(m1, m2, p_old + a1 * (N1[j + 1] - N1[j]), q_old + a2 * (N2[k + 1] - N2[k]),
-                 c2, &x1, &x2, &f2);
-            v1[j] = x1; v2[k] = x2; inner += f2;
-            double d = -0.5 * f2 * (p_old - q_old + x1 - x2);
-            if (d >= 0.0) work += d; else neg += d;
+            double w1 = p_old + a1 * (N1[j + 1] - N1[j]), w2 = q_old + a2 * (N2[k + 1] - N2[k]);
+            pair(m1, m2, w1, w2, c2, &x1, &x2, &f2);
+            v1[j] = x1; v2[k] = x2;
+            r[k] = p_old - q_old; w[k] = w1 - w2; f[k] = f2;
+            d[k] = -0.5 * f2 * (r[k] + x1 - x2);
+            work += d[k];
         }
-        acc[2] += work; acc[3] += neg;
+        if (work < 0.0) {               /* take back the shares of the negative cells */
+            work = 0.0;
+            for (int64_t k = 0; k < n2; ++k) {
+                int64_t j = j0 + k;
+                if (d[k] < 0.0) {
+                    double lam = share(f[k], r[k], w[k], v1[j] - v2[k]);
+                    double w1 = v1[j] - f[k] / m1, w2 = v2[k] + f[k] / m2;
+                    v1[j] = w1 + lam * (v1[j] - w1); v2[k] = w2 + lam * (v2[k] - w2);
+                    f[k] *= lam; d[k] = -0.5 * f[k] * (r[k] + v1[j] - v2[k]);
+                }
+                work += d[k];
+            }
+            acc[8] += 1.0;
+        }
+        inner = 0.0;
+        for (int64_t k = 0; k < n2; ++k) inner += f[k];
+        acc[2] += work > 0.0 ? work : 0.0;
         acc[0] += 0.5 * q * dt * (v_first + v1[0]);
-        for (int64_t f = 1; f < n1; ++f) N1[f] += b1 * (v1[f] - v1[f - 1]);
-        for (int64_t f = 1; f < n2; ++f) N2[f] += b2 * (v2[f] - v2[f - 1]);
+        for (int64_t g = 1; g < n1; ++g) N1[g] += b1 * (v1[g] - v1[g - 1]);
+        for (int64_t g = 1; g < n2; ++g) N2[g] += b2 * (v2[g] - v2[g - 1]);
         for (int64_t i = 0; i < t1; ++i) u1[i] += dt * v1[cells1[i]];
         for (int64_t i = 0; i < t2; ++i) u2[i] += dt * v2[cells2[i]];
     }
-    acc[4] = 0.0; acc[5] = inner / dt;
+    free(r);
+    acc[3] = 0.0; acc[4] = inner / dt;
 }
 """
 

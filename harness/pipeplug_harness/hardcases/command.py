@@ -8,8 +8,8 @@ the rigid cases are also run through the FMU with fmpy. Prints the table, writes
 ``stability.csv`` and ``stability.md`` into ``--out``, and exits non-zero if any row fails.
 
 Columns: ``err v``/``err u`` -- largest velocity/displacement error relative to the
-reference's peaks; ``energy`` -- (W_input - kinetic [- elastic - reversing] - W_friction) /
-W_input at the end (fd: the scheme's own dissipation); ``drift v`` [m/s] / ``drift u`` [m] --
+reference's peaks; ``energy`` -- (W_input - E_kinetic - E_strain - W_friction - W_numerical) /
+W_input at the end (round-off: fd books its dissipation as W_numerical); ``drift v`` [m/s] / ``drift u`` [m] --
 largest speed and displacement change over the long run after the motion stopped ("-" where
 the motion never stops).
 """

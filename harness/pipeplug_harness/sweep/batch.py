@@ -26,9 +26,10 @@ from .sample import varied_values
 
 __all__ = ["run_chunk", "AT_REST"]
 
-#: the outputs of a rigid model at rest under Q = 0 (the batch API reports the others)
-AT_REST = {"v_pipe": 0.0, "v_plug": 0.0, "F_outer": 0.0, "F_inner": 0.0, "at_rest": True,
-           "pipe_mode": 0, "plug_mode": 0}
+#: the outputs of a rigid model at rest under Q = 0 (the batch API reports the others): no
+#: motion, no energy stored, none dissipated by the exact solution's numerics
+AT_REST = {"v_pipe": 0.0, "v_plug": 0.0, "F_outer": 0.0, "F_inner": 0.0, "E_kinetic": 0.0,
+           "E_strain": 0.0, "W_numerical": 0.0, "at_rest": True, "pipe_mode": 0, "plug_mode": 0}
 #: result columns taken as the batch API gives them
 _GIVEN = ("u_pipe", "u_plug", "W_input", "W_friction_outer", "W_friction_inner", "t_end")
 _PARAMS = frozenset(p.name for p in PARAMETERS)

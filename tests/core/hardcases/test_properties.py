@@ -80,6 +80,7 @@ def test_fd_energy_defect_is_nonnegative_and_bounded_by_its_step(params, growth,
         defect = o.W_input - o.W_friction - kinetic_energy(m, o)
         scale = abs(o.W_input) + o.W_friction + 1e-300
         assert -1e-11 * scale <= defect <= bound * (1 + 1e-9) + 1e-11 * scale
+        assert abs(o.W_numerical - defect) <= 1e-11 * scale      # the model books it
 
 
 @settings(max_examples=150, **SETTINGS)
