@@ -46,12 +46,16 @@ class Load:
         return np.where(inside, values[np.clip(index, 0, len(self.values) - 1)], 0.0)
 
     def impulse(self, t):
-        """The integral of Q from -inf to ``t`` [N s] (array)."""
+        """The integral of Q from -inf to ``t`` [N s] (array): the impulse up to the edge
+        before ``t`` plus the force since it."""
         t = np.asarray(t, dtype=float)
-        total = np.zeros_like(t)
-        for a, b, q in zip(self.edges[:-1], self.edges[1:], self.values):
-            total = total + q * np.clip(t - a, 0.0, b - a)
-        return total
+        edges = np.asarray(self.edges, dtype=float)
+        values = np.append(np.asarray(self.values, dtype=float), 0.0)
+        before = np.concatenate(([0.0], np.cumsum(values[:-1] * np.diff(edges))))
+        index = np.searchsorted(edges, t, side="right") - 1
+        inside = index >= 0
+        index = np.clip(index, 0, len(edges) - 1)
+        return np.where(inside, before[index] + values[index] * (t - edges[index]), 0.0)
 
 
 def _images(L: float, c: float, t_max: float) -> int:
@@ -68,10 +72,10 @@ def free_rod_velocity(load: Load, x: float, t, L: float, c: float, Z: float):
     return v / Z
 
 
-def free_rod_cell_velocity(load: Load, a: float, b: float, t, L: float, c: float, Z: float):
-    """Average velocity [m/s] of the free rod over the cell ``a <= x <= b`` [m] at times
-    ``t`` [s] (exact for the piecewise-constant load)."""
-    t = np.asarray(t, dtype=float)
+def free_rod_cell_velocity(load: Load, a, b, t, L: float, c: float, Z: float):
+    """Average velocity [m/s] of the free rod over the cells ``a <= x <= b`` [m] at times
+    ``t`` [s] (exact for the piecewise-constant load; ``a``, ``b`` and ``t`` broadcast)."""
+    a, b, t = np.broadcast_arrays(*(np.asarray(z, dtype=float) for z in (a, b, t)))
     v = np.zeros_like(t)
     impulse = load.impulse
     for k in range(_images(L, c, float(t.max(initial=0.0)))):
@@ -105,13 +109,13 @@ class FrictionRod:
     def velocity(self, x, t):
         """Velocity [m/s] at sections ``x`` [m] and times ``t`` [s] (broadcast)."""
         x, t = np.broadcast_arrays(np.asarray(x, float), np.asarray(t, float))
-        moving = (x < self.c * t) & (t < self.stop)
+        moving = (x <= self.c * t) & (t < self.stop)
         return np.where(moving, (self.Q - 0.5 * self.c * self.f * t) / self.Z, 0.0)
 
     def force(self, x, t):
         """Axial force [N] (tension positive) at sections ``x`` [m] and times ``t`` [s]."""
         x, t = np.broadcast_arrays(np.asarray(x, float), np.asarray(t, float))
-        behind = x < self.c * np.minimum(t, self.stop)
+        behind = x <= self.c * np.minimum(t, self.stop)
         return np.where(behind, -self.Q + 0.5 * self.f * x, 0.0)
 
     def displacement(self, x, t):
