@@ -39,8 +39,8 @@ from ..contact import coulomb
 from ..jit import jitable
 
 __all__ = ["free_cells", "soil_cells", "plug_cells", "plug_soil_cells", "sums", "limit", "drift",
-           "track", "soil_start", "soil_weight", "moving_end", "next_end", "share", "accumulate",
-           "SCRATCH_ROWS"]
+           "track", "soil_start", "soil_weight", "moving_end", "next_end", "share", "window",
+           "joint_share", "accumulate", "SCRATCH_ROWS"]
 
 # The projections are the rigid models' own (one source); compiled kernels call them too.
 one_contact = jitable(coulomb.one_contact)
@@ -77,6 +77,37 @@ def share(f, r, w, x):
     if a <= 0.0:
         return 0.0
     return a / -b             # b < -a < 0: the work is 0 there
+
+
+@jitable
+def window(f, r, w, x):
+    """The shares of a contact's projected impulse (arguments of :func:`share`) whose friction
+    work is not negative: ``lo <= lam <= hi`` (and ``lam = 0``); ``lo > hi`` when only
+    ``lam = 0`` is."""
+    a = -f * (r + w)
+    b = -f * (x - w)
+    if b >= 0.0:
+        if a >= 0.0:
+            return 0.0, 1.0
+        if a + b >= 0.0:
+            return a / -b, 1.0          # the work grows with lam through 0 at -a / b
+        return 1.0, 0.0
+    if a + b >= 0.0:
+        return 0.0, 1.0
+    if a > 0.0:
+        return 0.0, a / -b
+    return 1.0, 0.0
+
+
+@jitable
+def joint_share(f1, r1, w1, x1, f2, r2, w2, x2):
+    """The largest share of both contacts' projected impulses of a cell (arguments of
+    :func:`share` for the soil and the plug contact) for which neither friction work is
+    negative; 0 when only none is."""
+    lo1, hi1 = window(f1, r1, w1, x1)
+    lo2, hi2 = window(f2, r2, w2, x2)
+    hi = min(hi1, hi2)
+    return hi if max(lo1, lo2) <= hi else 0.0
 
 
 @jitable
@@ -202,7 +233,8 @@ def limit(v1, v2, j0, s, soil_lo, soil_hi, pair_lo, pair_hi, both_lo, both_hi):
     """Take back the share of the projection (:func:`share`) of every cell whose friction work
     is negative: the soil-only pipe cells ``soil_lo..soil_hi-1``, the pairs of pipe cells
     ``pair_lo..pair_hi-1`` (plug cell = pipe cell - ``j0``) and the pipe cells
-    ``both_lo..both_hi-1`` touching soil and plug (one share for both of their contacts).
+    ``both_lo..both_hi-1`` touching soil and plug (one share for both of their contacts,
+    :func:`joint_share`).
 
     A step calls it when a contact's friction work summed over the rods is negative: in such
     a step the cells whose kick reversed their velocity booked more negative work than the
@@ -222,8 +254,8 @@ def limit(v1, v2, j0, s, soil_lo, soil_hi, pair_lo, pair_hi, both_lo, both_hi):
     for j in range(both_lo, both_hi):
         if s[D1, j] < 0.0 or s[D2, j] < 0.0:
             k = j - j0
-            lam = min(share(s[F1, j], s[R1, j], s[W1, j], v1[j]),
-                      share(s[F2, j], s[R1, j] - s[R2, j], s[W1, j] - s[W2, j], v1[j] - v2[k]))
+            lam = joint_share(s[F1, j], s[R1, j], s[W1, j], v1[j],
+                              s[F2, j], s[R1, j] - s[R2, j], s[W1, j] - s[W2, j], v1[j] - v2[k])
             _apply_pair(v1, v2, j, k, s, lam)
             _scale(s, F1, D1, j, lam, s[R1, j] + v1[j])
 

@@ -85,7 +85,10 @@ class Clock:
     """The elastic model's grid of times and the load's impulse since its last point.
 
     Grid points are ``origin + k h``; ``pending`` is the impulse of Q [N s] from grid point
-    ``k`` to :attr:`time` (0 when the time is at or, by round-off, before the point).
+    ``k`` to :attr:`time` (0 when the time is at or, by round-off, before the point), and
+    ``pending_load`` the force [N] that gave all of it (NaN when forces differed): a step whose
+    load did not change over it takes that force itself, not the mean its impulse would give
+    to round-off, so that every host grid gives the grid points' results bit for bit.
     """
 
     def __init__(self, h: float):
@@ -93,6 +96,7 @@ class Clock:
         self.origin = 0.0      #: the first step's start [s]
         self.k = 0             #: grid points stepped
         self.pending = 0.0     #: [N s]
+        self.pending_load = 0.0  #: [N], NaN for a mixed impulse
         self.time = 0.0        #: the model's time [s]
 
     def point(self, k: int) -> float:
@@ -103,9 +107,28 @@ class Clock:
         """The index of the last grid point at or before ``t`` [s] (to within :data:`SNAP`)."""
         return max(self.k, math.floor((t - self.origin) / self.h + SNAP))
 
-    def impulse(self, q: float, t_from: float, t_to: float) -> float:
-        """The impulse of ``q`` [N] over ``[max(t_from, t_k), t_to]`` [N s] (0 if empty)."""
-        return q * max(t_to - max(t_from, self.point(self.k)), 0.0)
+    def first_load(self, q: float) -> float:
+        """The force [N] of the step from grid point ``k`` when ``q`` [N] acts from the time
+        on: ``q`` itself if it acted since the point, else the mean force of the interval."""
+        if self.time <= self.point(self.k) or self.pending_load == q:
+            return q
+        return (self.pending + q * (self.point(self.k + 1) - self.time)) / self.h
+
+    def hold(self, q: float, t_end: float) -> None:
+        """Keep the impulse of ``q`` [N] from the time (or grid point ``k``) to ``t_end``
+        [s] for the next step, and move the time there."""
+        start = max(self.time, self.point(self.k))
+        if t_end > start:
+            if self.time <= self.point(self.k):
+                self.pending, self.pending_load = 0.0, q
+            elif self.pending_load != q:
+                self.pending_load = math.nan
+            self.pending += q * (t_end - start)
+        self.time = t_end
+
+    def passed(self, k_end: int) -> None:
+        """Grid points up to ``k_end`` were stepped: nothing pending."""
+        self.k, self.pending, self.pending_load = k_end, 0.0, 0.0
 
 
 class ElasticModel(ModelBase):
@@ -168,17 +191,16 @@ class ElasticModel(ModelBase):
         n = k_end - clock.k
         if n and not (q == 0.0 and clock.pending == 0.0 and self.at_rest()):
             self._check_count(n, h)
-            first = clock.pending + clock.impulse(q, clock.time, clock.point(clock.k + 1))
-            self._steps(1, first / clock.h)
+            self._steps(1, clock.first_load(q))
             if n > 1:
                 self._steps(n - 1, q)
             mode = self._monitor_modes()
             if not self._modes or self._modes[-1] != mode:
                 self._modes.append(mode)
         if n:
-            clock.k, clock.pending = k_end, 0.0
-        clock.pending += clock.impulse(q, clock.time, t_end)
-        clock.time = t_end
+            clock.time = max(clock.time, clock.point(k_end))
+            clock.passed(k_end)
+        clock.hold(q, t_end)
 
     def _check_count(self, n: int, h: float) -> None:
         """Refuse a communication step of more than ``max_internal_steps`` internal steps."""
@@ -255,7 +277,7 @@ class ElasticModel(ModelBase):
         """A copy of the whole state: clock, fields, tracked displacements, works."""
         clock = self.clock
         state = {"time": clock.time, "origin": clock.origin, "k": clock.k,
-                 "pending": clock.pending}
+                 "pending": clock.pending, "pending_load": clock.pending_load}
         state.update({name: getattr(self, name).copy() for name in _FIELDS})
         state["modes"] = np.array(self._modes, dtype=np.int64).reshape(-1, 2)
         return state
@@ -274,6 +296,7 @@ class ElasticModel(ModelBase):
         clock = self.clock
         clock.time, clock.origin = float(state["time"]), float(state["origin"])
         clock.k, clock.pending = int(state["k"]), float(state["pending"])
+        clock.pending_load = float(state["pending_load"])
 
 
 def _work(acc, index) -> float:

@@ -88,6 +88,29 @@ def _share(f, r, w, x):
     return np.where(a + b >= 0.0, 1.0, np.where(a <= 0.0, 0.0, ratio))
 
 
+def _window(f, r, w, x):
+    """:func:`pipeplug.elastic.cells.window` cell by cell (the same operations)."""
+    a = -f * (r + w)
+    b = -f * (x - w)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = a / -b
+    grows = b >= 0.0
+    whole = np.where(grows, a >= 0.0, a + b >= 0.0)
+    lo = np.where(whole, 0.0, np.where(grows, np.where(a + b >= 0.0, ratio, 1.0),
+                                       np.where(a > 0.0, 0.0, 1.0)))
+    hi = np.where(whole, 1.0, np.where(grows, np.where(a + b >= 0.0, 1.0, 0.0),
+                                       np.where(a > 0.0, ratio, 0.0)))
+    return lo, hi
+
+
+def _joint_share(f1, r1, w1, x1, f2, r2, w2, x2):
+    """:func:`pipeplug.elastic.cells.joint_share` cell by cell."""
+    lo1, hi1 = _window(f1, r1, w1, x1)
+    lo2, hi2 = _window(f2, r2, w2, x2)
+    hi = np.minimum(hi1, hi2)
+    return np.where(np.maximum(lo1, lo2) <= hi, hi, 0.0)
+
+
 def _applied(lam, w, x):
     """``cells._applied`` cell by cell: ``x`` where the whole impulse is applied."""
     return np.where(lam == 1.0, x, w + lam * (x - w))
@@ -170,10 +193,12 @@ class _Coupled(_Part):
     def limit(self):
         p, q = self.pipe.v, self.plug.v
         negative = self.d2 < 0.0
-        lam = _share(self.f2, self.r1 - self.r2, self.w1 - self.w2, p - q)
-        if self.d1 is not None:
+        relative = (self.f2, self.r1 - self.r2, self.w1 - self.w2, p - q)
+        if self.d1 is None:
+            lam = _share(*relative)
+        else:
             negative |= self.d1 < 0.0
-            lam = np.minimum(_share(self.f1, self.r1, self.w1, p), lam)
+            lam = _joint_share(self.f1, self.r1, self.w1, p, *relative)
         lam = np.where(negative, lam, 1.0)
         p[...] = np.where(negative, _applied(lam, self.w1, p), p)
         q[...] = np.where(negative, _applied(lam, self.w2, q), q)

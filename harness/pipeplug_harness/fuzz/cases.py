@@ -32,7 +32,7 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
-__all__ = ["Case", "Plan", "generate", "edges_of", "load_at", "loads_on", "host_calls",
+__all__ = ["Case", "Plan", "generate", "edges_of", "load_at", "loads_on", "host_calls", "calls_of",
            "case_to_json", "case_from_json", "RIGID_PARAMETERS", "GRIDS"]
 
 #: the parameters of the rigid models (the reference's names, the contract's names)
@@ -55,6 +55,7 @@ class Plan:
     reference: int = 10
     fmu: int = 20
     fd: int = 100
+    model: str = "rigid"     #: "rigid" (models I and II) or "elastic" (model III)
 
     def checks_for(self, index: int) -> tuple[str, ...]:
         """The check families of case ``index``: always ``"core"``, then the costly ones."""
@@ -199,14 +200,19 @@ def loads_on(segments, starts) -> np.ndarray:
 
 
 def host_calls(case: Case, style: str) -> list[tuple[float, float]]:
-    """An FMU host's ``(currentCommunicationPoint, communicationStepSize)`` calls.
+    """An FMU host's ``(currentCommunicationPoint, communicationStepSize)`` calls for ``case``
+    (:func:`calls_of` with its load edges, stop time and host step)."""
+    return calls_of(edges_of(case.segments), case.stop, case.host_h, style)
 
-    ``style`` ``"t+=h"``: the host adds each step to its time; ``"t=k*h"``: it computes its
-    points as ``k * h``. Either host also stops at every load edge (as fmpy does for an input
-    signal with duplicated time stamps) and at the stop time.
+
+def calls_of(edges, stop: float, h: float, style: str) -> list[tuple[float, float]]:
+    """An FMU host's ``(currentCommunicationPoint, communicationStepSize)`` calls to ``stop``.
+
+    ``style`` ``"t+=h"``: the host adds each step of ``h`` [s] to its time; ``"t=k*h"``: it
+    computes its points as ``k * h``. Either host also stops at every load edge of ``edges``
+    [s] (as fmpy does for an input signal with duplicated time stamps) and at ``stop``.
     """
-    h, stop = case.host_h, case.stop
-    edges = [e for e in edges_of(case.segments) if 0.0 < e < stop] + [stop]
+    edges = [e for e in edges if 0.0 < e < stop] + [stop]
     calls = []
     if style == "t+=h":
         t = 0.0

@@ -52,9 +52,20 @@ CHECKS: dict[str, Check] = {
                                   "P1 tau1 Lc(u)) / (that limit + |Q| + F2)"),
     "at rest": Check(0.0, "points where at_rest holds but a velocity is not 0 or a step "
                           "under Q = 0 changes an output"),
+    "ledger": Check(1.0, "model III: |W_input - E_kinetic - E_strain - W_friction - "
+                         "W_numerical| / ((1e-12 + 2.2e-16 n) x largest work or energy of the "
+                         "run), n the internal steps so far"),
+    "energies": Check(0.0, "model III: points with a negative E_kinetic or E_strain, W_numerical "
+                           "!= 0, W_friction > W_input, a non-finite output, or at_rest while "
+                           "moving"),
+    "bound": Check(1.0, "model III: largest |v_pipe| / (impulse of |Q| so far / M1 + 2 (sum of "
+                        "|Q| over the load's pieces so far + F1 + F2) / Z1)"),
+    "rod reference": Check(1e-12, "model III, free rod at Courant 1: v_pipe and u_pipe vs the "
+                                  "exact d'Alembert cell averages / their largest value"),
     "paths": Check(1e-15, "every core path vs the first on every grid (the compiled and the "
-                          "plain exact solver are one source): largest |difference| / scale "
-                          "over all outputs"),
+                          "plain exact solver are one source; model III: the numpy steps vs "
+                          "the compiled kernels): largest |difference| / scale over all "
+                          "outputs"),
     "fmu": Check(1e-12, "FMU vs the core on the host's own points: largest |difference| / "
                         "scale over all outputs"),
     "fd bound": Check(FD_C, "fd vs exact: largest |error| / (dt x R x G) over dt, dt/2, "

@@ -20,10 +20,11 @@ import numpy as np
 
 from .cases import Plan
 from .checks import CHECKS
-from .engine import fuzz
+from .elastic_run import ELASTIC_PATHS
+from .engine import MODELS, fuzz, run_one
 from .paths import CORE_PATHS
 from .report import load_failure
-from .run import Setup, run_case
+from .run import Setup
 
 __all__ = ["add_arguments", "main", "replay", "fit_fd_constant"]
 
@@ -31,6 +32,9 @@ DEFAULT_FMU = Path("dist") / "PipePlug.fmu"
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
+    parser.add_argument("--model", choices=tuple(MODELS), default="rigid",
+                        help="rigid: models I and II (exact solver, reference, fd); elastic: "
+                             "model III (%(default)s)")
     parser.add_argument("--cases", type=int, default=1000, help="number of cases (%(default)s)")
     parser.add_argument("--seed", type=int, default=0, help="seed of the run (%(default)s)")
     parser.add_argument("--start", type=int, default=0,
@@ -75,7 +79,8 @@ def main(args: argparse.Namespace) -> int:
     if args.fit_fd_constant:
         return fit_fd_constant(args.seed, args.start, args.cases, Setup(paths), args.jobs,
                                Path(args.out) / "failures")
-    plan = Plan(args.reference_every, 0 if args.no_fmu else args.fmu_every, args.fd_every)
+    plan = Plan(args.reference_every, 0 if args.no_fmu else args.fmu_every, args.fd_every,
+                args.model)
     setup = Setup(paths, fmu=_fmu(args) if plan.fmu else None)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
@@ -85,8 +90,9 @@ def main(args: argparse.Namespace) -> int:
     else:
         jobs = args.jobs
         summary, seconds = fuzz(args.seed, indices, plan, setup, jobs, failures=out / "failures")
-    title = (f"pipeplug fuzz --seed {args.seed} --start {args.start} --cases {args.cases} "
-             f"(paths: {', '.join(paths)})")
+    shown = paths if args.model == "rigid" else tuple(ELASTIC_PATHS)
+    title = (f"pipeplug fuzz --model {args.model} --seed {args.seed} --start {args.start} "
+             f"--cases {args.cases} (paths: {', '.join(shown)})")
     table = f"{title}\n{summary.table(seconds, jobs)}"
     print(table)
     (out / "summary.txt").write_text(table + "\n")
@@ -137,9 +143,11 @@ def replay(file: str, setup: Setup | None = None, paths_given: bool = False, fmu
         return 2
     needs_fmu = "fmu" in case.checks and fmu is not None
     setup = Setup(paths, setup.fd_path, fmu() if needs_fmu else setup.fmu)
-    result = run_case(case, setup)
+    result = run_one(case, setup)
     print(f"case {case.seed}:{case.index}, model {case.model}, checks {', '.join(case.checks)}")
-    print(f"params {case.params}\nsegments {list(case.segments)}\nstop {case.stop!r} s")
+    load = (f"segments {list(case.segments)}" if hasattr(case, "segments")
+            else f"edges {list(case.edges)}\nloads {list(case.loads)}")
+    print(f"params {case.params}\n{load}\nstop {case.stop!r} s")
     failed = set(result.failed)
     for (check, subject), value in sorted(result.values.items()):
         mark = "FAILED" if (check, subject) in failed else "ok"

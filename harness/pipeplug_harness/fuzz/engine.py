@@ -15,10 +15,26 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from .cases import Plan, generate
+from .elastic_cases import generate_elastic
+from .elastic_run import run_elastic_case
 from .report import Summary, save_failure
 from .run import CaseResult, Setup, run_case
 
-__all__ = ["fuzz", "run_indices", "FuzzCampaign"]
+__all__ = ["fuzz", "run_indices", "make_case", "run_one", "FuzzCampaign", "MODELS"]
+
+#: the fuzz's model families: --model name -> case generator and runner
+MODELS = {"rigid": (generate, run_case), "elastic": (generate_elastic, run_elastic_case)}
+
+
+def make_case(seed: int, index: int, plan: Plan):
+    """Case ``index`` of the fuzz run ``seed`` of the plan's model family."""
+    return MODELS[plan.model][0](seed, index, plan)
+
+
+def run_one(case, setup: Setup) -> CaseResult:
+    """Run a case of either family with its own runner."""
+    runner = run_elastic_case if getattr(case, "kind", "rigid") == "elastic" else run_case
+    return runner(case, setup)
 
 _CHUNK = 20          # cases per task of a pool
 #: cases per task on a cluster: a task costs the engine ~10 ms (scheduler round trip), a case
@@ -28,7 +44,7 @@ DASK_CHUNK = 100
 
 def run_indices(seed: int, indices, plan: Plan, setup: Setup) -> list[CaseResult]:
     """Generate and run cases ``indices`` of the fuzz run ``seed``."""
-    return [run_case(generate(seed, i, plan), setup) for i in indices]
+    return [run_one(make_case(seed, i, plan), setup) for i in indices]
 
 
 def _task(args) -> list[CaseResult]:
@@ -92,7 +108,7 @@ def _collect(batches, summary, seed, plan, setup, failures, progress, every, sta
         for result in batch:
             summary.add(result)
             if result.failed and failures is not None:
-                save_failure(result, generate(seed, result.index, plan), failures, setup.paths)
+                save_failure(result, make_case(seed, result.index, plan), failures, setup.paths)
         if progress is not None and k % every == 0:
             print(f"  {summary.cases}/{total} cases, {summary.failures} failing, "
                   f"{time.perf_counter() - start:.0f} s", file=progress, flush=True)

@@ -12,6 +12,7 @@ from pathlib import Path
 
 from .cases import Case, case_from_json, case_to_json
 from .checks import CHECKS
+from .elastic_cases import elastic_from_json, elastic_to_json
 from .run import CaseResult
 
 __all__ = ["Summary", "save_failure", "load_failure"]
@@ -64,8 +65,9 @@ class Summary:
     def table(self, seconds: float | None = None, jobs: int = 1) -> str:
         """The summary as text: totals, then one line per check and subject."""
         fam = self.families
+        models = ", ".join(f"model {m} {n}" for m, n in sorted(self.models.items()))
         lines = [
-            f"cases: {self.cases} (model I {self.models['I']}, model II {self.models['II']}); "
+            f"cases: {self.cases} ({models}); "
             f"against the reference: {fam['reference']}; through the FMU: {fam['fmu']}; "
             f"fd: {fam['fd']} (resolved {self.fd['resolved']}, grazing {self.fd['grazing']}, "
             f"order measured {self.fd['order']}, refined {self.fd['refined']})",
@@ -108,7 +110,7 @@ def save_failure(result: CaseResult, case: Case, folder: Path, paths: tuple) -> 
         "errors": [{"check": c, "subject": s, "message": m}
                    for (c, s), m in result.errors.items()],
         "replay": f"pipeplug fuzz --replay {path.name}",
-        "case": case_to_json(case),
+        "case": elastic_to_json(case) if _elastic(case) else case_to_json(case),
     }
     path.write_text(json.dumps(data, indent=1, default=_plain))
     return path
@@ -122,4 +124,10 @@ def load_failure(path: str | Path) -> tuple[Case, dict]:
     """The case of a file written by :func:`save_failure` (or a bare case file), and the
     file's data."""
     data = json.loads(Path(path).read_text())
-    return case_from_json(data.get("case", data)), data
+    case = data.get("case", data)
+    return (elastic_from_json(case) if case.get("kind") == "elastic"
+            else case_from_json(case)), data
+
+
+def _elastic(case) -> bool:
+    return getattr(case, "kind", "rigid") == "elastic"

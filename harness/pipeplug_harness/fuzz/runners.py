@@ -116,18 +116,26 @@ class FmuHost:
 
     def run(self, case: Case, calls) -> np.ndarray:
         """Reset, set the case's parameters, make the host's calls; the outputs after each."""
+        loads = loads_on(case.segments, [t for t, _ in calls])
+        return self.run_with(case.params, case.options, loads, calls)
+
+    def run_with(self, params: dict, options: dict, loads, calls) -> np.ndarray:
+        """Reset, set ``params`` and ``options`` (by contract name), make the host's ``calls``
+        with ``loads[i]`` held over call ``i``; the outputs after each."""
         s = self.slave
         if not self.fresh:
             s.reset()
         self.fresh = False
         s.setupExperiment(startTime=0.0)
         s.enterInitializationMode()
-        for name, value in case.params.items():
+        for name, value in params.items():
             s.setReal([self.vr[name]], [value])
-        s.setBoolean([self.vr["contact_growth"]], [case.growth])
-        s.setString([self.vr["solver"]], ["exact"])
+        for name, value in options.items():
+            if self.kind[name] == "Boolean":
+                s.setBoolean([self.vr[name]], [bool(value)])
+            else:
+                s.setString([self.vr[name]], [str(value)])
         s.exitInitializationMode()
-        loads = loads_on(case.segments, [t for t, _ in calls])
         rows = np.empty((len(calls), len(OUTPUT_NAMES)))
         q_vr = [self.vr["Q"]]
         for i, (t, h) in enumerate(calls):

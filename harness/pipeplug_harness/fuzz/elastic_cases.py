@@ -1,0 +1,195 @@
+"""Random cases of model III (elastic rods), each generated from ``(seed, index)`` alone.
+
+A case is an elastic pipe (and plug), a train of rectangular blows and the communication grids
+it is run on. Domains drawn (SI units):
+
+* pipe: length 0.5-30 m in 6-60 cells (log-uniform), inner radius 0.02-0.6 m, wall 0.002-0.04 m,
+  density 7000-8000 kg/m3; plug: none (30 %: ``tau2 = 0`` or ``L2 = 0``), partial (35 %, 1 to
+  n1 - 1 cells) or full (35 %), density 1200-2200 kg/m3; Young's moduli of both 1e7-3e11 Pa
+  (log-uniform, so either rod may be the faster);
+* friction: soil ``tau1`` 0 (30 %) or 1e2-1e5 Pa, plug ``tau2`` 1e2-1e5 Pa (log-uniform);
+  contact growth (model II's penetrated length) for half of the cases;
+* Courant number 1 for 70 % of the cases, else 0.2-1; ``x_monitor`` anywhere on the pipe; half
+  of the cases marked for the reference are free rods at Courant 1 (no friction), which it
+  solves exactly;
+* blows: 1-50 (log-uniform), each lasting 1 internal step to most of its period, the train
+  500-8000 internal steps long in all; amplitudes 0.1-10 times the friction the rods can take
+  (or the force that moves the pipe at 1 m/s through its impedance, without friction), one in
+  ten a pull; every blow edge on the grid of internal steps ``h = courant dx / c_fastest``
+  (computed here by the contract's formulas, not by the core), followed by 0-3 of the blows'
+  periods of ringing.
+
+Grids (all end at the stop time and hold every blow edge and the common sample times, which
+are grid points): ``multiples`` (steps of 1-40 internal steps), ``random`` (random points, most
+between grid points), ``irregular`` (clusters 1e-9 to 1 internal step after the edges). Each
+holds at most about 800 points.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+
+from .cases import Plan
+
+__all__ = ["ElasticCase", "generate_elastic", "internal_step", "plug_simulated", "GRIDS"]
+
+GRIDS = ("multiples", "random", "irregular")
+_POINTS = 800                     # most communication points of a grid
+_PLAN = Plan(model="elastic")
+
+
+@dataclass(frozen=True)
+class ElasticCase:
+    """One model III fuzz case (plain data, JSON round trip exact).
+
+    ``edges`` are the times [s] where the load changes, ``loads`` the force [N] from each edge
+    to the next (0 before the first and after the last); ``grids`` map a grid name to its
+    communication points [s]; ``samples`` the times [s] every grid holds.
+    """
+
+    seed: int
+    index: int
+    growth: bool
+    params: dict
+    edges: tuple
+    loads: tuple
+    stop: float
+    samples: tuple
+    grids: dict
+    host_h: float
+    checks: tuple = ("core",)
+    note: str = field(default="", compare=False)
+    kind: str = "elastic"
+
+    @property
+    def model(self) -> str:
+        """``"III+II"`` (with contact growth) or ``"III"``."""
+        return "III+II" if self.growth else "III"
+
+    @property
+    def options(self) -> dict:
+        return {"elastic": True, "contact_growth": self.growth}
+
+    def load_at(self, t) -> np.ndarray:
+        """The force [N] on steps starting at ``t`` [s] (right-continuous)."""
+        k = np.searchsorted(np.asarray(self.edges), np.asarray(t, dtype=float), side="right") - 1
+        values = np.append(np.asarray(self.loads, dtype=float), 0.0)
+        return np.where(k >= 0, values[np.clip(k, 0, len(self.loads))], 0.0)
+
+
+def internal_step(params: dict) -> float:
+    """The contract's internal step courant dx / c_fastest [s] (c = sqrt(E / rho); the plug's
+    speed counts when the plug is simulated)."""
+    speed = math.sqrt(params["E1"] / params["rho1"])
+    if plug_simulated(params):
+        speed = max(speed, math.sqrt(params["E2"] / params["rho2"]))
+    return params["courant"] * params["dx"] / speed
+
+
+def plug_simulated(params: dict) -> bool:
+    """The contract's rule: the plug is simulated when tau2 > 0 and L2 > 0."""
+    return params["tau2"] > 0.0 and params["L2"] > 0.0
+
+
+def generate_elastic(seed: int, index: int, plan: Plan = _PLAN) -> ElasticCase:
+    """Case ``index`` of the model III fuzz run ``seed`` (see the module docstring)."""
+    rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index, 3)))
+    checks = tuple(c for c in plan.checks_for(index) if c != "fd")     # fd: rigid only
+    params = _params(rng)
+    if "reference" in checks and rng.random() < 0.5:
+        params.update(tau1=0.0, tau2=0.0, courant=1.0)     # a free rod: the exact reference
+    h = internal_step(params)
+    edges, loads, stop = _blows(rng, params, h)
+    steps = round(stop / h)
+    samples = tuple(sorted({float(k * h) for k in rng.integers(1, steps + 1, 4)} | {stop}))
+    grids = _grids(rng, h, steps, edges, samples)
+    host_h = stop / int(rng.integers(20, 300))
+    return ElasticCase(seed, index, bool(rng.random() < 0.5), params, edges, loads, stop,
+                       samples, grids, host_h, checks)
+
+
+def _log(rng, low: float, high: float) -> float:
+    return float(10.0 ** rng.uniform(math.log10(low), math.log10(high)))
+
+
+def _params(rng) -> dict:
+    n1 = int(round(_log(rng, 6, 60)))
+    L1 = _log(rng, 0.5, 30.0)
+    dx = L1 / n1
+    L1 = n1 * dx                              # a whole number of cells, to round-off
+    R1 = _log(rng, 0.02, 0.6)
+    r = rng.random()
+    n2 = 0 if r < 0.3 else (n1 if r < 0.65 else int(rng.integers(1, n1)))
+    tau2 = 0.0 if (r < 0.15) else _log(rng, 1e2, 1e5)
+    return dict(L1=L1, L2=n2 * dx, R1=R1, h1=min(_log(rng, 0.002, 0.04), R1),
+                rho1=float(rng.uniform(7000, 8000)), rho2=float(rng.uniform(1200, 2200)),
+                E1=_log(rng, 1e7, 3e11), E2=_log(rng, 1e7, 3e11),
+                tau1=0.0 if rng.random() < 0.3 else _log(rng, 1e2, 1e5), tau2=tau2, dx=dx,
+                courant=1.0 if rng.random() < 0.7 else float(rng.uniform(0.2, 1.0)),
+                x_monitor=float(rng.uniform(0.0, L1)))
+
+
+def _scale_force(params: dict) -> float:
+    """The force [N] the rods' friction can take (both contacts over their lengths), or
+    without friction the force moving the pipe at 1 m/s through its impedance."""
+    p = params
+    outer = 2 * math.pi * (p["R1"] + p["h1"]) * p["L1"] * p["tau1"]
+    inner = 2 * math.pi * p["R1"] * p["L2"] * p["tau2"]
+    if outer + inner > 0.0:
+        return outer + inner
+    S1 = math.pi * ((p["R1"] + p["h1"]) ** 2 - p["R1"] ** 2)
+    return S1 * math.sqrt(p["E1"] * p["rho1"])
+
+
+def _blows(rng, params: dict, h: float) -> tuple[tuple, tuple, float]:
+    """Blow edges (on the grid of internal steps ``h``), the force after each, the stop."""
+    count = int(round(_log(rng, 1, 50)))
+    total = int(round(_log(rng, 500, 8000)))
+    period = max(2, total // count)
+    edges, loads = [], []
+    force = _scale_force(params)
+    for k in range(count):
+        duration = int(rng.integers(1, max(2, int(period * rng.uniform(0.05, 0.9)))))
+        start = k * period
+        amplitude = _log(rng, 0.1, 10.0) * force * (-1.0 if rng.random() < 0.1 else 1.0)
+        edges += [float(start * h), float((start + duration) * h)]
+        loads += [amplitude, 0.0]
+    stop_steps = count * period + int(rng.integers(0, 3 * period + 1))
+    stop_steps = max(stop_steps, round(edges[-1] / h))
+    return tuple(edges), tuple(loads[:-1]), float(stop_steps * h)
+
+
+def _grids(rng, h: float, steps: int, edges, samples) -> dict:
+    """The communication grids (see the module docstring)."""
+    stop = float(steps * h)
+    base = np.array([*(e for e in edges if 0.0 < e < stop), *samples])
+    m = max(int(rng.integers(1, 41)), -(-steps // _POINTS))
+    multiples = np.arange(1, steps // m + 1) * m * h
+    n = min(_POINTS, steps)
+    random = rng.uniform(0.0, stop, n)
+    starts = np.array([0.0, *base])[rng.integers(0, base.size + 1, n // 2)]
+    irregular = np.concatenate([starts + h * 10.0 ** rng.uniform(-9.0, 0.0, n // 2),
+                                rng.uniform(0.0, stop, n - n // 2)])
+    grids = {}
+    for name, points in zip(GRIDS, (multiples, random, irregular)):
+        grid = np.unique(np.concatenate([[0.0], base, points[(points > 0.0) & (points <= stop)]]))
+        grids[name] = tuple(float(t) for t in grid)
+    return grids
+
+
+def elastic_to_json(case: ElasticCase) -> dict:
+    """The case as JSON-ready data (floats round-trip exactly through :mod:`json`)."""
+    data = asdict(case)
+    data["grids"] = {k: list(v) for k, v in case.grids.items()}
+    return data
+
+
+def elastic_from_json(data: dict) -> ElasticCase:
+    """The case written by :func:`elastic_to_json`."""
+    data = dict(data)
+    for key in ("edges", "loads", "samples", "checks"):
+        data[key] = tuple(data[key])
+    data["grids"] = {k: tuple(float(t) for t in v) for k, v in data["grids"].items()}
+    return ElasticCase(**data)

@@ -1,0 +1,126 @@
+"""The checks of model III cases, as functions of run outputs (tolerances: :data:`.checks.CHECKS`).
+
+Masses, impedances and friction limits are computed here from the parameters (the contract's
+formulas), not taken from the core.
+"""
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+
+from pipeplug_references.rods import Load, free_rod_cell_velocity
+
+from .checks import relative_error
+from .elastic_cases import ElasticCase, internal_step
+from .runners import COLUMN
+
+__all__ = ["RodBody", "LEDGER_BASE", "LEDGER_PER_STEP", "ledger_error", "energy_violations",
+           "bound_ratio", "free_rod_error"]
+
+_WORKS = ("W_input", "W_friction", "W_friction_outer", "W_friction_inner", "E_kinetic",
+          "E_strain", "W_numerical")
+
+
+class RodBody(NamedTuple):
+    """What the bounds need of a case's rods [kg, N s/m, N]."""
+
+    M1: float          #: pipe mass
+    Z1: float          #: pipe impedance S1 sqrt(E1 rho1)
+    F1: float          #: soil friction limit over the whole pipe
+    F2: float          #: plug friction limit (0 when the plug is not simulated)
+
+    @classmethod
+    def of(cls, p: dict) -> RodBody:
+        S1 = math.pi * ((p["R1"] + p["h1"]) ** 2 - p["R1"] ** 2)
+        plug = p["tau2"] > 0.0 and p["L2"] > 0.0
+        return cls(p["rho1"] * S1 * p["L1"], S1 * math.sqrt(p["E1"] * p["rho1"]),
+                   2 * math.pi * (p["R1"] + p["h1"]) * p["L1"] * p["tau1"],
+                   2 * math.pi * p["R1"] * p["L2"] * p["tau2"] if plug else 0.0)
+
+
+def _column(rows, name: str) -> np.ndarray:
+    return rows[:, COLUMN[name]]
+
+
+def _largest_work(rows) -> float:
+    return max(float(np.max(np.abs(_column(rows, n)), initial=0.0)) for n in _WORKS)
+
+
+#: The ledger's allowance: 1e-12 of the largest work, plus the round-off of the fields, which
+#: grows by about one unit of the last place of the energy per internal step (measured: up to
+#: 0.7 of it, with a plug stuck to a ringing pipe; the works are compensated sums).
+LEDGER_BASE, LEDGER_PER_STEP = 1e-12, 2.2e-16
+
+
+def ledger_error(rows, times, h: float) -> float:
+    """Largest |W_input - E_kinetic - E_strain - W_friction - W_numerical| over its allowance
+    (1e-12 + 2.2e-16 n) x the largest work or energy of the run, n the internal steps taken
+    by ``times`` [s] (steps of ``h`` [s])."""
+    balance = (_column(rows, "W_input") - _column(rows, "E_kinetic") - _column(rows, "E_strain")
+               - _column(rows, "W_friction") - _column(rows, "W_numerical"))
+    allowance = LEDGER_BASE + LEDGER_PER_STEP * np.floor(np.asarray(times) / h + 1e-6)
+    return relative_error(balance / allowance, 0.0, _largest_work(rows))
+
+
+def energy_violations(rows) -> float:
+    """Points where an energy is negative, W_numerical is not 0, the friction work exceeds
+    the input work, an output is not finite, or the model claims rest while it moves."""
+    c = COLUMN
+    bad = ~np.all(np.isfinite(rows), axis=1)
+    bad |= (_column(rows, "E_kinetic") < 0.0) | (_column(rows, "E_strain") < 0.0)
+    bad |= _column(rows, "W_numerical") != 0.0
+    bad |= _column(rows, "W_friction") > _column(rows, "W_input")
+    resting = rows[:, c["at_rest"]] != 0.0
+    bad |= resting & ((_column(rows, "v_pipe") != 0.0) | (_column(rows, "v_plug") != 0.0)
+                      | (_column(rows, "E_kinetic") != 0.0))
+    return float(np.count_nonzero(bad))
+
+
+def bound_ratio(rows, loads, steps, body: RodBody, h: float) -> float:
+    """Largest |v_pipe| over a physical bound at each point: the rigid pipe's velocity under
+    the impulse of |Q| so far (the bound of any mean velocity), plus a wave of 2 |Q| / Z1 for
+    every change of the load so far (each piece of load sends a wave that doubles at an end,
+    and a train in step with the wave's round trip piles them up) and the waves of both
+    frictions, 2 (F1 + F2) / Z1. The impulse is counted to the next internal step (the model
+    applies a step's mean force). A scheme that diverges exceeds it by orders of magnitude;
+    the physics of a free rod (d'Alembert) stays within it and can reach it (1e-9 allows for
+    the sums' round-off)."""
+    q = np.abs(loads)
+    impulse = np.cumsum(q * steps) + q * h
+    new_piece = np.r_[True, loads[1:] != loads[:-1]]
+    waves = np.cumsum(np.where(new_piece, q, 0.0))
+    bound = (impulse / body.M1 + 2.0 * (waves + body.F1 + body.F2) / body.Z1) * (1.0 + 1e-9)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(bound > 0.0, np.abs(_column(rows, "v_pipe")) / bound,
+                         np.where(_column(rows, "v_pipe") != 0.0, np.inf, 0.0))
+    return float(np.max(ratio, initial=0.0))
+
+
+def free_rod_error(case: ElasticCase, grid, rows) -> float:
+    """The free rod at Courant 1 (no friction): v_pipe and u_pipe at every point against the
+    exact d'Alembert cell averages (:mod:`pipeplug_references.rods`) at the last internal step
+    at or before it, interpolated at x_monitor by the contract's section rule; u is the sum of
+    the exact cell velocities times the internal step, as the scheme integrates it. Largest
+    |error| over the largest |v| (|u|) of the reference."""
+    p = case.params
+    h, dx, L = internal_step(p), p["dx"], p["L1"]
+    n = round(L / dx)
+    s = min(max(p["x_monitor"] / dx - 0.5, 0.0), n - 1.0)
+    a = min(math.floor(s), max(n - 2, 0))
+    w = s - a
+    times = np.asarray(grid[1:], dtype=float)
+    k = np.floor(times / h + 1e-6).astype(int)
+    all_k = np.arange(1, k.max() + 1)
+    load = Load(tuple(case.edges), tuple(case.loads))
+    c, Z = math.sqrt(p["E1"] / p["rho1"]), RodBody.of(p).Z1
+    cells = [free_rod_cell_velocity(load, j * dx, (j + 1) * dx, all_k * h, L, c, Z)
+             for j in (a, min(a + 1, n - 1))]
+    v = (1.0 - w) * cells[0] + w * cells[1]
+    u = (1.0 - w) * np.cumsum(h * cells[0]) + w * np.cumsum(h * cells[1])
+    index = np.clip(k - 1, 0, None)
+    v_ref = np.where(k > 0, v[index], 0.0)
+    u_ref = np.where(k > 0, u[index], 0.0)
+    return max(relative_error(_column(rows, "v_pipe"), v_ref, float(np.max(np.abs(v)))),
+               relative_error(_column(rows, "u_pipe"), u_ref, float(np.max(np.abs(u)))))

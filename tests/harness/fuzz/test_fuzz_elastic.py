@@ -1,0 +1,139 @@
+"""The model III fuzz: its cases, a fixed-seed share of the campaign, and planted defects it
+must find (each one of the root causes of the divergence and the created energy)."""
+from __future__ import annotations
+
+import json
+import math
+import re
+
+import numpy as np
+import pytest
+
+import pipeplug.elastic.vectorised as vectorised
+from pipeplug import Options, Params
+from pipeplug.elastic.model import ElasticModel
+from pipeplug_harness.fuzz.cases import Plan
+from pipeplug_harness.fuzz.elastic_cases import (
+    GRIDS,
+    elastic_from_json,
+    elastic_to_json,
+    generate_elastic,
+    internal_step,
+)
+from pipeplug_harness.fuzz.elastic_run import ELASTIC_PATHS
+from pipeplug_harness.fuzz.engine import fuzz
+from pipeplug_harness.fuzz.run import Setup
+
+PLAN = Plan(reference=5, fmu=0, fd=0, model="elastic")
+
+
+def test_a_case_depends_on_seed_and_index_only_and_round_trips():
+    a = generate_elastic(7, 31, PLAN)
+    assert generate_elastic(7, 31, PLAN) == a
+    assert generate_elastic(8, 31, PLAN) != a and generate_elastic(7, 32, PLAN) != a
+    for i in range(10):
+        case = generate_elastic(3, i, PLAN)
+        assert elastic_from_json(json.loads(json.dumps(elastic_to_json(case)))) == case
+
+
+def test_edges_and_samples_are_grid_points_every_grid_holds():
+    for i in range(30):
+        case = generate_elastic(5, i, PLAN)
+        h = internal_step(case.params)
+        for t in (*case.edges, *case.samples):
+            assert abs(t / h - round(t / h)) <= 1e-9 * max(1.0, t / h)
+        for name in GRIDS:
+            grid = set(case.grids[name])
+            assert {e for e in case.edges if e < case.stop} <= grid | {0.0}
+            assert set(case.samples) <= grid and max(grid) == case.stop
+        assert "fd" not in case.checks
+
+
+def _count(pattern: str, text: str) -> int:
+    match = re.search(pattern, text)
+    assert match, text
+    return int(match.group(1))
+
+
+@pytest.mark.parametrize("seed", [201, 202])
+def test_fuzz_finds_no_failure(pipeplug_cli, fmu_dir, seed):
+    cases = 150
+    proc = pipeplug_cli("fuzz", "--model", "elastic", "--seed", seed, "--cases", cases,
+                        "--reference-every", 5, "--fmu-every", 25, "--fmu", fmu_dir,
+                        "--out", "out", check=False)
+    text = proc.stdout
+    print(text)
+    assert proc.returncode == 0, text + proc.stderr
+    assert _count(r"cases: (\d+)", text) == cases
+    assert _count(r"failing cases: (\d+)", text) == 0
+    for check in ("ledger [compiled]", "energies [compiled]", "grid [compiled]",
+                  "bound [compiled]", "friction work [compiled]", "paths [numpy]",
+                  "rod reference [compiled]", "fmu [fmu t+=h]", "fmu [fmu t=k*h]"):
+        assert re.search(re.escape(check) + r"\s+\d+\s+0\s", text), check
+
+
+def _numpy_model(case):
+    options = Options(elastic=True, contact_growth=case.growth)
+    params = Params.from_mapping(case.params).validate(options.active_groups())
+    return ElasticModel(params, options, vectorised=True)
+
+
+class _VaryingSteps(ElasticModel):
+    """Root cause 1: a communication step cut into ceil(h / h_max) equal internal steps."""
+
+    def _step_to(self, q, h, t_end):
+        n = max(1, math.ceil(h / self.grid.h_max - 1e-9))
+        g = self.grid
+        self._kernel(n, h / n, q, g.coef, self.v1, self.N1, self.v2, self.N2, g.cells1,
+                     self.u1, g.cells2, self.u2, self.acc)
+        self._rest = None
+        self.clock.time = t_end
+
+
+def _varying(case):
+    options = Options(elastic=True, contact_growth=case.growth)
+    params = Params.from_mapping(case.params).validate(options.active_groups())
+    return _VaryingSteps(params, options, vectorised=True)
+
+
+def _campaign(monkeypatch, builder, cases=12, seed=9):
+    monkeypatch.setitem(ELASTIC_PATHS, "compiled", builder)
+    summary, _ = fuzz(seed, range(cases), Plan(reference=0, fmu=0, fd=0, model="elastic"),
+                      Setup(), progress=None)
+    return summary
+
+
+def _failed(summary, check) -> int:
+    return summary.rows.get((check, "compiled"), [0, 0])[1]
+
+
+def test_the_fuzz_finds_steps_of_changing_length(monkeypatch):
+    """The ledger and the grids break on most cases, and the velocity bound (divergence) on
+    some."""
+    summary = _campaign(monkeypatch, _varying, cases=6)
+    assert _failed(summary, "ledger") >= 5 and _failed(summary, "grid") >= 5
+    assert _failed(summary, "bound") >= 2
+
+
+def test_the_fuzz_finds_friction_that_creates_energy(monkeypatch):
+    """Root cause 2: the projection's impulse applied in full, even where the step's friction
+    work summed over the rods is negative (booked as 0)."""
+    def book_as_projected(parts, acc):
+        outer, inner = vectorised._works(parts)
+        vectorised.accumulate(acc, 1, 6, max(outer, 0.0))
+        vectorised.accumulate(acc, 2, 7, max(inner, 0.0))
+    monkeypatch.setattr(vectorised, "_friction_works", book_as_projected)
+    summary = _campaign(monkeypatch, _numpy_model, cases=8)
+    assert _failed(summary, "ledger") >= 2
+
+
+def test_the_fuzz_finds_a_wrong_wave_speed(monkeypatch):
+    """The free rod against its exact solution: a pipe modulus 1e-9 too stiff."""
+    def stiffer(case):
+        changed = dict(case.params, E1=case.params["E1"] * (1 + 1e-9))
+        return _numpy_model(type(case)(**{**case.__dict__, "params": changed}))
+    monkeypatch.setitem(ELASTIC_PATHS, "compiled", stiffer)
+    summary, _ = fuzz(9, range(12), Plan(reference=1, fmu=0, fd=0, model="elastic"), Setup(),
+                      progress=None)
+    assert summary.rows[("rod reference", "compiled")][1] >= 1
+    assert np.isfinite(summary.rows[("rod reference", "compiled")][2])
