@@ -9,7 +9,10 @@ A drive file has the scene sections ``[pipe]``, ``[plug]``, ``[soil]``, ``[blows
     [blows]         amplitude [N], duration [s], period [s] (no count, no start: blow k starts
                     at k * period)
     [model]         elastic = true | false | "auto"; solver dt dx courant (no x_monitor: the
-                    drive monitors the pipe's front end, whose displacement is the penetration)
+                    drive monitors the pipe's front end, whose displacement is the penetration);
+                    without dx, the elastic model takes the coarsest grid of at least
+                    GRID_CELLS cells along the pipe and GRID_CELLS along the blow's wave c1 td
+                    whose cells fit L1 and L2 a whole number of times (:func:`grid_for`)
     [drive]
     target = 30.0           # [m] stop when the front end has gone in this far (default and
                             #     at most L1)
@@ -33,13 +36,16 @@ from pathlib import Path
 
 from pipeplug_harness.scenes.file import SECTIONS, SceneError, elastic_choice, read_sections
 
-__all__ = ["DriveSpec", "DRIVE_SECTIONS", "DEFAULT_REFUSAL", "load_drive", "drive_spec",
-           "check_with_core"]
+__all__ = ["DriveSpec", "DRIVE_SECTIONS", "DEFAULT_REFUSAL", "GRID_CELLS", "load_drive",
+           "drive_spec", "check_with_core", "grid_for"]
 
 _OPTION_NAMES = ("elastic", "contact_growth", "solver")
 
 #: The default refusal of pile-driving practice: 10 blows per 25 mm.
 DEFAULT_REFUSAL = (10, 0.025)
+#: Without dx: at least this many cells along the pipe and along the blow's wave c1 td.
+GRID_CELLS = 20
+_GRID_TRIES = 10_000             # cell counts tried for one that fits L2 too
 
 #: section -> {key: (python type, default)}: the scene tables, narrowed, and [drive].
 DRIVE_SECTIONS = {
@@ -73,6 +79,7 @@ class DriveSpec:
     max_blows: int
     step: float              #: [s]
     reason: str              #: why the model is (not) elastic
+    grid: str = ""           #: the elastic model's grid and where dx came from
 
     @property
     def elastic(self) -> bool:
@@ -105,12 +112,23 @@ def drive_spec(name: str, values: dict) -> DriveSpec:
     if not blows["period"] > blows["duration"]:
         raise SceneError(f"[blows] period = {blows['period']!r} s; allowed: > duration "
                          f"({blows['duration']!r} s)")
+    if not (blows["amplitude"] > 0.0 and math.isfinite(blows["amplitude"])):
+        raise SceneError(f"[blows] amplitude = {blows['amplitude']!r} N; allowed: > 0 (a blow "
+                         f"drives the pipe into the soil)")
     elastic, reason = elastic_choice(values.pop("elastic"), values, blows["duration"])
     start = {k: v for k, v in values.items() if v is not None}
     start["elastic"] = elastic
+    grid = ""
     if elastic:                                      # monitor the front end: penetration
         start["x_monitor"] = _params(start).L1
-    L1 = check_with_core(start).L1
+        if "dx" not in start:
+            start["dx"], grid = grid_for(_params(start), blows["duration"])
+        else:
+            grid = "dx given"
+    params = check_with_core(start)
+    L1 = params.L1
+    if elastic:
+        grid = _grid_text(params, grid)
     target = L1 if drive["target"] is None else drive["target"]
     if not 0.0 < target <= L1:
         raise SceneError(f"[drive] target = {target!r} m; allowed: > 0 and <= L1 = {L1!r} m")
@@ -122,7 +140,41 @@ def drive_spec(name: str, values: dict) -> DriveSpec:
         if not ok:
             raise SceneError(f"[drive] {key} = {value!r}; allowed: {allowed}")
     return DriveSpec(name, start, blows["amplitude"], blows["duration"], blows["period"],
-                     target, count, length, drive["max_blows"], step, reason)
+                     target, count, length, drive["max_blows"], step, reason, grid)
+
+
+def grid_for(params, duration: float) -> tuple[float, str]:
+    """The drive's default dx [m] and how it was chosen: the fewest cells ``n >= GRID_CELLS``
+    and ``>= GRID_CELLS L1 / (c1 td)`` (the blow's wave, ``td = duration`` [s], at least
+    GRID_CELLS cells long) for which ``L2 n / L1`` is whole when the plug is simulated.
+
+    Raises
+    ------
+    SceneError
+        When no such count is found among the next few thousand (L2 / L1 not a ratio of small
+        integers): the file must give dx.
+    """
+    p = params
+    wave = p.c1 * duration
+    least = max(GRID_CELLS, math.ceil(GRID_CELLS * p.L1 / wave - 1e-9))
+    for n in range(least, least + _GRID_TRIES):
+        plug_cells = p.L2 * n / p.L1
+        if not p.has_plug or abs(plug_cells - round(plug_cells)) <= 1e-9 * max(1.0, plug_cells):
+            return p.L1 / n, (f"dx chosen: the fewest cells >= {GRID_CELLS} along the pipe and "
+                              f">= {GRID_CELLS} along the blow's wave c1 td = {wave:.4g} m that "
+                              f"fit L1 and L2")
+    raise SceneError(f"[model] no dx given, and no grid of {least} to {least + _GRID_TRIES - 1} "
+                     f"cells fits both L1 = {p.L1!r} m and L2 = {p.L2!r} m; give dx (a length "
+                     f"that divides both)")
+
+
+def _grid_text(params, how: str) -> str:
+    """The elastic grid in words: cells, dx, internal step."""
+    from pipeplug.elastic.grid import build_grid
+    g = build_grid(params)
+    plug = f" and {g.n2} plug cells" if g.n2 else ""
+    return (f"model III grid: {g.n1} pipe cells{plug} of dx = {params.dx:.6g} m ({how}), "
+            f"internal step {g.h_max:.4g} s")
 
 
 def _refusal(drive: dict) -> tuple[int, float]:

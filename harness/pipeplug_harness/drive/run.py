@@ -33,6 +33,7 @@ import math
 from dataclasses import dataclass, field
 from typing import NamedTuple
 
+from .checks import Limits, check_blow
 from .file import DriveSpec
 from .session import CoreSession, FmuSession, Reading, Session
 
@@ -46,7 +47,7 @@ OUTCOMES = {
     "max_blows": "stopped at max_blows, no refusal",
 }
 
-_ZERO = Reading(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, True)   # the state at t = 0
+_ZERO = Reading(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, True)   # the state at t = 0
 
 
 @dataclass
@@ -88,27 +89,36 @@ class DriveResult:
         return len(self.blows) * self.spec.period
 
 
-def run_drive(spec: DriveSpec, fmu) -> DriveResult:
+def run_drive(spec: DriveSpec, fmu, progress=None) -> DriveResult:
     """Drive the pipe blow by blow through one instance of the FMU ``fmu``."""
     with FmuSession(fmu, spec.start_values) as session:
-        return drive_with(spec, session)
+        return drive_with(spec, session, progress)
 
 
-def run_drive_on_core(spec: DriveSpec) -> DriveResult:
+def run_drive_on_core(spec: DriveSpec, progress=None) -> DriveResult:
     """Drive the pipe blow by blow through one core model (no FMU: the same model, stepped as
     the FMU steps it)."""
     with CoreSession(spec.start_values) as session:
-        return drive_with(spec, session)
+        return drive_with(spec, session, progress)
 
 
-def drive_with(spec: DriveSpec, session: Session) -> DriveResult:
-    """Drive the pipe blow by blow through ``session`` (an instance at t = 0, at rest)."""
+def drive_with(spec: DriveSpec, session: Session, progress=None) -> DriveResult:
+    """Drive the pipe blow by blow through ``session`` (an instance at t = 0, at rest).
+
+    Every blow is checked (:func:`pipeplug_harness.drive.checks.check_blow`): a violation
+    raises :class:`~pipeplug_harness.drive.checks.DriveInvalid` and no result is returned.
+    ``progress(blow)`` is called after each blow (its :class:`Blow`).
+    """
     result = DriveResult(spec)
     pace = _pace(spec)
+    limits = Limits.of(spec)
     before = _ZERO
     for k in range(spec.max_blows):
         blow, before = _blow(session, spec, k, before, pace)
+        check_blow(limits, blow, before, (k + 1) * spec.period, session.steps)
         result.blows.append(blow)
+        if progress is not None:
+            progress(blow)
         result.outcome = _verdict(spec, result.blows)
         if result.outcome:
             break

@@ -17,7 +17,8 @@ from typing import NamedTuple, Protocol
 
 __all__ = ["Reading", "Session", "FmuSession", "CoreSession"]
 
-_REALS = ("v_pipe", "v_plug", "u_pipe", "W_input", "W_friction_outer", "W_friction_inner")
+_REALS = ("v_pipe", "v_plug", "u_pipe", "W_input", "W_friction_outer", "W_friction_inner",
+          "E_kinetic", "E_strain", "W_numerical")
 
 
 class Reading(NamedTuple):
@@ -29,7 +30,15 @@ class Reading(NamedTuple):
     W_input: float
     W_friction_outer: float
     W_friction_inner: float
+    E_kinetic: float
+    E_strain: float
+    W_numerical: float
     at_rest: bool
+
+    @property
+    def W_friction(self) -> float:
+        """Friction work [J], both contacts."""
+        return self.W_friction_outer + self.W_friction_inner
 
 
 class Session(Protocol):
@@ -132,8 +141,7 @@ class CoreSession:
         self.model.advance_to(q, t + h, t)
         self.steps += 1
         o = self.model.outputs()
-        return Reading(o.v_pipe, o.v_plug, o.u_pipe, o.W_input, o.W_friction_outer,
-                       o.W_friction_inner, o.at_rest)
+        return Reading(*(getattr(o, name) for name in _REALS), o.at_rest)
 
     def close(self) -> None:
         self.model = None

@@ -1,0 +1,97 @@
+"""What every blow of a drive must satisfy, or the drive stops: a result that breaks physics is
+never reported.
+
+After each blow (its whole window, to the next blow's start):
+
+* the energy ledger closes: ``|W_input - E_kinetic - E_strain - W_friction - W_numerical|`` at
+  most ``(1e-12 + 2.2e-16 n)`` times the largest of those terms, ``n`` the internal steps so far
+  (the round-off of the fields grows by about one unit of the last place per step; the works are
+  compensated sums); ``E_kinetic`` and ``E_strain`` are >= 0, so friction work never exceeds the
+  input work;
+* the pipe's velocity stays within what the blows can give it: the rigid pipe's velocity under
+  their impulse so far, plus, in the elastic model, a wave of ``2 Q / Z1`` per blow so far (a
+  blow's wave doubles at a free end; a train in step with the round trip piles them up) and the
+  waves of both frictions ``2 (F1 + F2) / Z1``;
+* the front end has not gone back past the start by more than the pipe's elastic shortening
+  under the blow, ``Q L1 / (E1 S1)`` (0 in the rigid models): blows push.
+
+A violation raises :class:`DriveInvalid` with one line naming the blow and the numbers.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+__all__ = ["DriveInvalid", "Limits", "check_blow", "LEDGER_BASE", "LEDGER_PER_STEP"]
+
+LEDGER_BASE, LEDGER_PER_STEP = 1e-12, 2.2e-16
+_SLACK = 1e-9                    # round-off allowance of the bounds (relative)
+
+
+class DriveInvalid(RuntimeError):
+    """A blow broke a physical bound or the energy ledger: the run is not a result."""
+
+
+@dataclass(frozen=True)
+class Limits:
+    """A drive's constants for the checks (SI), from the contract's formulas."""
+
+    M1: float              #: pipe mass [kg]
+    Z1: float              #: pipe impedance [N s/m] (inf: rigid)
+    F1: float              #: soil friction limit over the whole pipe [N]
+    F2: float              #: plug friction limit (0 without a plug) [N]
+    amplitude: float       #: [N]
+    duration: float        #: [s]
+    rebound: float         #: the largest elastic shortening of the pipe under a blow [m]
+    h: float               #: the model's internal step [s] (0: none, the exact solver)
+
+    @classmethod
+    def of(cls, spec) -> Limits:
+        p = spec.params()
+        plug = p.tau2 > 0.0 and p.L2 > 0.0
+        if spec.elastic:
+            from pipeplug.elastic.grid import build_grid
+            Z1, rebound, h = p.S1 * math.sqrt(p.E1 * p.rho1), spec.amplitude * p.L1 / (
+                p.E1 * p.S1), build_grid(p).h_max
+        else:
+            h = p.dt if spec.start_values.get("solver") == "fd" else 0.0
+            Z1, rebound = math.inf, 0.0
+        return cls(p.M1, Z1, p.P1 * p.L1 * p.tau1, p.F2 if plug else 0.0, spec.amplitude,
+                   spec.duration, rebound, h)
+
+    def velocity_bound(self, blows: int) -> float:
+        """The largest pipe velocity [m/s] ``blows`` blows can give (module docstring)."""
+        waves = 2.0 * (blows * self.amplitude + self.F1 + self.F2) / self.Z1
+        return (blows * self.amplitude * self.duration / self.M1 + waves) * (1.0 + _SLACK)
+
+
+def check_blow(limits: Limits, blow, out, t: float, steps: int) -> None:
+    """Check blow ``blow`` (its record) and the outputs ``out`` at its window's end ``t`` [s]
+    (``steps`` communication steps so far: the exact solver's count of pieces at least).
+
+    Raises
+    ------
+    DriveInvalid
+        With one line naming the blow and the numbers.
+    """
+    n = blow.blow
+    terms = (out.W_input, out.E_kinetic, out.E_strain, out.W_friction, out.W_numerical)
+    residual = out.W_input - out.E_kinetic - out.E_strain - out.W_friction - out.W_numerical
+    internal = t / limits.h if limits.h else steps
+    allowance = (LEDGER_BASE + LEDGER_PER_STEP * internal) * max(map(abs, terms))
+    if not abs(residual) <= allowance:
+        raise DriveInvalid(
+            f"blow {n}: the energy ledger does not close: W_input = {out.W_input:.6g} J, "
+            f"E_kinetic = {out.E_kinetic:.6g} J, E_strain = {out.E_strain:.6g} J, W_friction = "
+            f"{out.W_friction:.6g} J, W_numerical = {out.W_numerical:.6g} J leave "
+            f"{residual:.3g} J (allowed {allowance:.2g} J)")
+    if not (out.E_kinetic >= 0.0 and out.E_strain >= 0.0):
+        raise DriveInvalid(f"blow {n}: negative energy: E_kinetic = {out.E_kinetic:.6g} J, "
+                           f"E_strain = {out.E_strain:.6g} J")
+    bound = limits.velocity_bound(n)
+    if not max(abs(blow.v_pipe_peak), abs(blow.v_pipe_end)) <= bound:
+        raise DriveInvalid(f"blow {n}: pipe velocity {blow.v_pipe_peak:.6g} m/s exceeds what "
+                           f"{n} blows can give it, {bound:.6g} m/s")
+    if not blow.penetration >= -limits.rebound * (1.0 + _SLACK):
+        raise DriveInvalid(f"blow {n}: penetration {blow.penetration:.6g} m, below the pipe's "
+                           f"elastic rebound -{limits.rebound:.3g} m: blows push the pipe in")
