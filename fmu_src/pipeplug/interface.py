@@ -19,7 +19,8 @@ from typing import NamedTuple, Protocol
 
 import numpy as np
 
-__all__ = ["Output", "OUTPUTS", "OUTPUT_NAMES", "Outputs", "Model", "ModelBase"]
+__all__ = ["Output", "OUTPUTS", "OUTPUT_NAMES", "Outputs", "Model", "ModelBase", "LEDGER_SOURCES",
+           "LEDGER_TERMS", "ledger_residual"]
 
 
 class Output(NamedTuple):
@@ -65,6 +66,19 @@ OUTPUTS: tuple[Output, ...] = (
 )
 
 OUTPUT_NAMES: tuple[str, ...] = tuple(o.name for o in OUTPUTS)
+
+#: The energy ledger, one table for every model and every check of it: the work the sources put
+#: in equals the sum of the stores and sinks, each of which is >= 0 (the dissipated ones never
+#: decrease). Effects added later add their terms here.
+LEDGER_SOURCES: tuple[str, ...] = ("W_input",)
+LEDGER_TERMS: tuple[str, ...] = ("E_kinetic", "E_strain", "W_friction", "W_numerical")
+
+
+def ledger_residual(values) -> float:
+    """Sources minus terms of the ledger [J] for ``values`` (outputs by name: an
+    :class:`Outputs`, or columns of them)."""
+    get = values.__getitem__ if isinstance(values, dict) else (lambda n: getattr(values, n))
+    return (sum(get(n) for n in LEDGER_SOURCES) - sum(get(n) for n in LEDGER_TERMS))
 
 _TYPES = {"Real": float, "Integer": int, "Boolean": bool}
 Outputs = NamedTuple("Outputs", [(o.name, _TYPES[o.kind]) for o in OUTPUTS])

@@ -22,6 +22,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from pipeplug.interface import LEDGER_SOURCES, LEDGER_TERMS, ledger_residual
+
 __all__ = ["DriveInvalid", "Limits", "check_blow", "LEDGER_BASE", "LEDGER_PER_STEP"]
 
 LEDGER_BASE, LEDGER_PER_STEP = 1e-12, 2.2e-16
@@ -75,8 +77,8 @@ def check_blow(limits: Limits, blow, out, t: float, steps: int) -> None:
         With one line naming the blow and the numbers.
     """
     n = blow.blow
-    terms = (out.W_input, out.E_kinetic, out.E_strain, out.W_friction, out.W_numerical)
-    residual = out.W_input - out.E_kinetic - out.E_strain - out.W_friction - out.W_numerical
+    terms = [getattr(out, name) for name in LEDGER_SOURCES + LEDGER_TERMS]
+    residual = ledger_residual(out)
     internal = t / limits.h if limits.h else steps
     allowance = (LEDGER_BASE + LEDGER_PER_STEP * internal) * max(map(abs, terms))
     if not abs(residual) <= allowance:

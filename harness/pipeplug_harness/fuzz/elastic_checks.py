@@ -10,6 +10,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from pipeplug.interface import LEDGER_SOURCES, LEDGER_TERMS, ledger_residual
 from pipeplug_references.rods import Load, free_rod_cell_velocity
 
 from .checks import relative_error
@@ -19,8 +20,7 @@ from .runners import COLUMN
 __all__ = ["RodBody", "LEDGER_BASE", "LEDGER_PER_STEP", "ledger_error", "energy_violations",
            "bound_ratio", "free_rod_error"]
 
-_WORKS = ("W_input", "W_friction", "W_friction_outer", "W_friction_inner", "E_kinetic",
-          "E_strain", "W_numerical")
+_WORKS = LEDGER_SOURCES + LEDGER_TERMS + ("W_friction_outer", "W_friction_inner")
 
 
 class RodBody(NamedTuple):
@@ -58,18 +58,18 @@ def ledger_error(rows, times, h: float) -> float:
     """Largest |W_input - E_kinetic - E_strain - W_friction - W_numerical| over its allowance
     (1e-12 + 2.2e-16 n) x the largest work or energy of the run, n the internal steps taken
     by ``times`` [s] (steps of ``h`` [s])."""
-    balance = (_column(rows, "W_input") - _column(rows, "E_kinetic") - _column(rows, "E_strain")
-               - _column(rows, "W_friction") - _column(rows, "W_numerical"))
+    balance = ledger_residual({name: _column(rows, name) for name in COLUMN})
     allowance = LEDGER_BASE + LEDGER_PER_STEP * np.floor(np.asarray(times) / h + 1e-6)
     return relative_error(balance / allowance, 0.0, _largest_work(rows))
 
 
 def energy_violations(rows) -> float:
-    """Points where an energy is negative, W_numerical is not 0, the friction work exceeds
+    """Points where a term of the ledger is negative, W_numerical is not 0, the friction work exceeds
     the input work, an output is not finite, or the model claims rest while it moves."""
     c = COLUMN
     bad = ~np.all(np.isfinite(rows), axis=1)
-    bad |= (_column(rows, "E_kinetic") < 0.0) | (_column(rows, "E_strain") < 0.0)
+    for name in LEDGER_TERMS:
+        bad |= _column(rows, name) < 0.0
     bad |= _column(rows, "W_numerical") != 0.0
     bad |= _column(rows, "W_friction") > _column(rows, "W_input")
     resting = rows[:, c["at_rest"]] != 0.0
