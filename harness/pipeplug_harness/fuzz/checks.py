@@ -58,8 +58,9 @@ CHECKS: dict[str, Check] = {
     "energies": Check(0.0, "model III: points with a negative E_kinetic or E_strain, W_numerical "
                            "!= 0, W_friction > W_input, a non-finite output, or at_rest while "
                            "moving"),
-    "bound": Check(1.0, "model III: largest |v_pipe| / (impulse of |Q| so far / M1 + 2 (sum of "
-                        "|Q| over the load's pieces so far + F1 + F2) / Z1)"),
+    "bound": Check(1.3, "model III: largest |v_pipe| / (impulse of |Q| so far / M1 + 2 (sum of "
+                        "|Q| over the load's pieces so far + F1 + F2) / Z1); below Courant 1 "
+                        "the scheme overshoots a front by up to 27 % (dispersion)"),
     "rod reference": Check(1e-12, "model III, free rod at Courant 1: v_pipe and u_pipe vs the "
                                   "exact d'Alembert cell averages / their largest value / (1 + "
                                   "2.2e-4 n), n the internal steps so far"),
