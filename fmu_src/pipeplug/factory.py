@@ -9,7 +9,7 @@ from collections.abc import Mapping
 
 from .interface import Model
 from .options import Options
-from .params import Params
+from .params import ParameterError, Params
 
 __all__ = ["build_model"]
 
@@ -45,6 +45,9 @@ def build_model(params: Params | Mapping[str, float] | None = None,
     if not isinstance(params, Params):
         params = Params.from_mapping(params or {})
     params.validate(options.active_groups())
+    if params.has_ram and not options.elastic:
+        raise ParameterError("ram_mass", params.ram_mass, "0 with the rigid models in this "
+                             "version (a ram strikes the elastic model: elastic = true)")
     if options.elastic:
         from .elastic.model import ElasticModel
         return ElasticModel(params, options)

@@ -57,6 +57,21 @@ OUTPUTS: tuple[Output, ...] = (
     Output("W_numerical", "J", "Real", "energy the numerical scheme dissipated since t = 0 (>= 0; "
                                        "fd: the impulses' share; exact and elastic: 0): W_input "
                                        "= E_kinetic + E_strain + W_friction + W_numerical"),
+    Output("F_head", "N", "Real", "force on the pipe head: Q plus the ram's contact force, "
+                                  "positive into the soil"),
+    Output("v_ram", "m/s", "Real", "velocity of the ram (0 without a ram)"),
+    Output("W_ram", "J", "Real", "energy the strikes brought: the ram's kinetic energy at each "
+                                 "strike, less what ram and cushion still held from the one "
+                                 "before"),
+    Output("W_cushion", "J", "Real", "energy lost in the cushion (or the direct contact) "
+                                     "between ram and head since t = 0"),
+    Output("E_transferred", "J", "Real", "work of F_head on the pipe head since t = 0 (ENTHRU)"),
+    Output("stress_head", "Pa", "Real", "axial stress at the head, compression negative"),
+    Output("stress_min", "Pa", "Real", "most compressive axial stress anywhere along the pipe "
+                                       "during the last communication step (rigid models: "
+                                       "from the rigid body's equilibrium at its end)"),
+    Output("stress_max", "Pa", "Real", "most tensile axial stress anywhere along the pipe "
+                                       "during the last communication step (same rule)"),
     Output("at_rest", "1", "Boolean", "true when a step under Q = 0 would leave the whole state "
                                       "unchanged, bit for bit"),
     Output("pipe_mode", "1", "Integer", "pipe/soil contact: -1 sliding backward, 0 stuck to the "
@@ -70,8 +85,9 @@ OUTPUT_NAMES: tuple[str, ...] = tuple(o.name for o in OUTPUTS)
 #: The energy ledger, one table for every model and every check of it: the work the sources put
 #: in equals the sum of the stores and sinks, each of which is >= 0 (the dissipated ones never
 #: decrease). Effects added later add their terms here.
-LEDGER_SOURCES: tuple[str, ...] = ("W_input",)
-LEDGER_TERMS: tuple[str, ...] = ("E_kinetic", "E_strain", "W_friction", "W_numerical")
+LEDGER_SOURCES: tuple[str, ...] = ("W_input", "W_ram")
+LEDGER_TERMS: tuple[str, ...] = ("E_kinetic", "E_strain", "W_friction", "W_numerical",
+                                 "W_cushion")
 
 
 def ledger_residual(values) -> float:

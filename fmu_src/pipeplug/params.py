@@ -95,6 +95,12 @@ PARAMETERS: tuple[Parameter, ...] = (
               upper_of="L1", active_with="elastic"),
     Parameter("max_internal_steps", "1", 1.0e8, "elastic and fd: the most internal steps one "
               "communication step may take (a longer step is refused)", 1.0),
+    Parameter("ram_mass", "kg", 0.0, "mass of the ram striking the pipe's head; 0: no ram, Q "
+              "alone drives the pipe", 0.0),
+    Parameter("cushion_stiffness", "N/m", 0.0, "loading stiffness of the cushion between ram "
+              "and head; 0: the ram strikes the head directly", 0.0),
+    Parameter("cushion_restitution", "1", 1.0, "coefficient of restitution of the cushion "
+              "(unloading stiffness cushion_stiffness / e^2)", 0.0, True, upper=1.0),
 )
 
 _BY_NAME = {p.name: p for p in PARAMETERS}
@@ -148,6 +154,11 @@ class _Formulas:
     def has_plug(self) -> bool:
         """True when the plug is coupled to the pipe (tau2 > 0 and L2 > 0)."""
         return self.tau2 > 0.0 and self.L2 > 0.0
+
+    @property
+    def has_ram(self) -> bool:
+        """True when a ram strikes the pipe (ram_mass > 0)."""
+        return self.ram_mass > 0.0
 
     @property
     def c1(self) -> float:

@@ -179,7 +179,7 @@ class RigidExact(ModelBase):
     def outputs(self) -> Outputs:
         """The contract's outputs at the current time."""
         out = self._outputs(self._st, self._par, self._st[TIME])
-        return Outputs._make((*out[:13], out[13] != 0.0, int(out[14]), int(out[15])))
+        return Outputs._make((*out[:21], out[21] != 0.0, int(out[22]), int(out[23])))
 
     def at_rest(self) -> bool:
         """Both bodies stuck with no load: a step under Q = 0 changes nothing but the time."""

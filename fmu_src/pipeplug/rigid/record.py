@@ -21,9 +21,11 @@ __all__ = ["parameter_record", "state_record", "reset_state", "as_array", "N_PAR
 
 # Constants: pipe mass M1 [kg]; plug mass M2 [kg] and its friction limit F2 = P2 L2 tau2 [N]
 # (both 0 without a plug); 1.0 when the plug is coupled; the outer law (kind, F1 [N],
-# k [N/m], L1 [m]) in four places from P_LAW.
+# k [N/m], L1 [m]) in four places from P_LAW; the wall's section S1 [m2] and the coupled plug's
+# length L2 [m] (0 without a plug), for the axial stress.
 P_M1, P_M2, P_F2, P_COUPLED, P_LAW = range(5)
-N_PAR = P_LAW + 4
+P_S1, P_L2 = P_LAW + 4, P_LAW + 5
+N_PAR = P_LAW + 6
 
 # State. TIME: the model's time [s]. The piece: its start T0 [s] and force Q [N] (nan before
 # the first step), its origin U1, V1, U2, V2 [m, m/s], contact modes S1, S2 (-1, 0, 1) and KIND
@@ -50,7 +52,8 @@ def parameter_record(params, growth: bool) -> list:
     """
     coupled = params.has_plug
     law = outer_contact_for(params.P1, params.L1, params.tau1, growth)
-    return [params.M1, coupled * params.M2, coupled * params.F2, coupled * 1.0, *law]
+    return [params.M1, coupled * params.M2, coupled * params.F2, coupled * 1.0, *law,
+            params.S1 + 0.0 * params.L1, coupled * params.L2]
 
 
 def state_record() -> list:
