@@ -61,10 +61,10 @@ OUTPUTS: tuple[Output, ...] = (
                                   "positive into the soil"),
     Output("v_ram", "m/s", "Real", "velocity of the ram (0 without a ram)"),
     Output("W_ram", "J", "Real", "energy the strikes brought: the ram's kinetic energy at each "
-                                 "strike, less what ram and cushion still held from the one "
-                                 "before"),
+                                 "strike, less the kinetic energy the ram still had"),
     Output("W_cushion", "J", "Real", "energy lost in the cushion (or the direct contact) "
-                                     "between ram and head since t = 0"),
+                                     "between ram and head since t = 0, with any energy the "
+                                     "cushion still held when a new strike reset it"),
     Output("E_transferred", "J", "Real", "work of F_head on the pipe head since t = 0 (ENTHRU)"),
     Output("stress_head", "Pa", "Real", "axial stress at the head, compression negative"),
     Output("stress_min", "Pa", "Real", "most compressive axial stress anywhere along the pipe "

@@ -24,7 +24,11 @@ Energy: the cushion holds the recoverable energy of its unloading line, in the s
 the step's mean compression rate) less ``R`` is its loss, ``W_cushion``: 0 along the unloading
 line, ``(1 - e^2)`` of the work on the loading line. With the ram's kinetic energy in
 ``E_kinetic`` and ``R`` in ``E_strain``, ``W_input + W_ram = E_kinetic + E_strain + W_friction +
-W_cushion``.
+W_cushion`` (a strike resets the cushion: what it still held counts as lost). Where the
+cushion opens within a step (its force would turn to a pull) the step's force is cut to 0, and
+the scheme's energy then takes back up to ``k h^2 dv^2 / 2`` (dv the closing velocity): its
+loss can fall that much at a separation (``1/2 m_cell dv^2`` for a direct strike, first order in
+dx; second order in the step for a cushion).
 """
 from __future__ import annotations
 

@@ -236,8 +236,8 @@ class ElasticModel(ModelBase):
         if not math.isfinite(velocity):
             raise ParameterError("v_strike", velocity, "finite [m/s]")
         acc, mass = self.acc, self.grid.coef[RAM_MASS]
-        held = 0.5 * mass * acc[RAM] ** 2 + self._cushion_energy()
-        acc[W_RAM] += 0.5 * mass * velocity * velocity - held
+        # The ram's kinetic energy is replaced; what the cushion still held is lost with it.
+        acc[W_RAM] += 0.5 * mass * (velocity * velocity - acc[RAM] ** 2)
         start_strike(acc[RAM:RAM + 6], float(velocity))
         self._rest = None
 
