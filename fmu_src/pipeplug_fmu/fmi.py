@@ -24,7 +24,7 @@ INPUT = ("Q", "N", "axial force on the struck end of the pipe (x = 0); positive 
 #: SI base-unit exponents of every unit used (for <UnitDefinitions>).
 UNITS = {"m": {"m": 1}, "s": {"s": 1}, "m/s": {"m": 1, "s": -1}, "kg/m3": {"kg": 1, "m": -3},
          "N": {"kg": 1, "m": 1, "s": -2}, "Pa": {"kg": 1, "m": -1, "s": -2},
-         "J": {"kg": 1, "m": 2, "s": -2}, "1": {}}
+         "J": {"kg": 1, "m": 2, "s": -2}, "kg": {"kg": 1}, "N/m": {"kg": 1, "s": -2}, "1": {}}
 
 #: The default experiment written into modelDescription.xml: (start [s], stop [s], step [s]).
 DEFAULT_EXPERIMENT = (0.0, 0.1, 1e-4)
