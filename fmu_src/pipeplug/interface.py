@@ -19,7 +19,8 @@ from typing import NamedTuple, Protocol
 
 import numpy as np
 
-__all__ = ["Output", "OUTPUTS", "OUTPUT_NAMES", "Outputs", "Model", "ModelBase", "LEDGER_SOURCES",
+__all__ = ["Output", "OUTPUTS", "OUTPUT_NAMES", "PER_STEP", "Outputs", "Model", "ModelBase",
+           "LEDGER_SOURCES",
            "LEDGER_TERMS", "ledger_residual"]
 
 
@@ -81,6 +82,10 @@ OUTPUTS: tuple[Output, ...] = (
 )
 
 OUTPUT_NAMES: tuple[str, ...] = tuple(o.name for o in OUTPUTS)
+
+#: The outputs that describe the last communication step as a whole (extremes over it), so
+#: that, unlike every other output, they depend on where the host's points fall.
+PER_STEP: tuple[str, ...] = ("stress_min", "stress_max")
 
 #: The energy ledger, one table for every model and every check of it: the work the sources put
 #: in equals the sum of the stores and sinks, each of which is >= 0 (the dissipated ones never

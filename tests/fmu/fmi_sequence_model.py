@@ -26,7 +26,8 @@ DEFAULTS = {"L1": 1.0, "L2": 1.0, "R1": 0.035, "h1": 0.003, "rho1": 7800.0, "rho
 OPTIONS = ("solver", "contact_growth", "elastic")
 REAL_OUTPUTS = ("v_pipe", "v_plug", "u_pipe", "u_plug", "F_outer", "F_inner", "W_input",
                 "W_friction", "W_friction_outer", "W_friction_inner", "E_kinetic", "E_strain",
-                "W_numerical")
+                "W_numerical", "F_head", "v_ram", "W_ram", "W_cushion", "E_transferred",
+                "stress_head", "stress_min", "stress_max")
 MODES = ("pipe_mode", "plug_mode")
 FLAGS = ("at_rest",)
 OK, DISCARD, ERROR = 0, 2, 3

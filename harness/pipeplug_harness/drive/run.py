@@ -47,7 +47,7 @@ OUTCOMES = {
     "max_blows": "stopped at max_blows, no refusal",
 }
 
-_ZERO = Reading(0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, True)   # the state at t = 0
+_ZERO = Reading(*[0.0] * 11, True)                                  # the state at t = 0
 
 
 @dataclass

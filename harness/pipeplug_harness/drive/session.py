@@ -18,7 +18,7 @@ from typing import NamedTuple, Protocol
 __all__ = ["Reading", "Session", "FmuSession", "CoreSession"]
 
 _REALS = ("v_pipe", "v_plug", "u_pipe", "W_input", "W_friction_outer", "W_friction_inner",
-          "E_kinetic", "E_strain", "W_numerical")
+          "E_kinetic", "E_strain", "W_numerical", "W_ram", "W_cushion")
 
 
 class Reading(NamedTuple):
@@ -33,6 +33,8 @@ class Reading(NamedTuple):
     E_kinetic: float
     E_strain: float
     W_numerical: float
+    W_ram: float
+    W_cushion: float
     at_rest: bool
 
     @property

@@ -68,7 +68,7 @@ def test_the_check_names_the_blow_and_the_numbers(tmp_path):
     spec = load_drive(_casing(tmp_path))
     limits = Limits.of(spec)
     blow = Blow(7, 1.8, 0.01, 0.5, 3.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, "rest", 0.1, 10, 0.0)
-    created = Reading(0.0, 0.0, 0.5, 7.787e6, 7.889e6, 0.0, 0.0, 0.0, 0.0, True)
+    created = Reading(0.0, 0.0, 0.5, 7.787e6, 7.889e6, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, True)
     with pytest.raises(DriveInvalid) as info:
         check_blow(limits, blow, created, 2.1, 1000)
     text = str(info.value)
