@@ -103,6 +103,7 @@ class Clock:
     def __init__(self, h: float):
         self.h = h
         self.origin = 0.0      #: the first step's start [s]
+        self.started = False   #: the origin is fixed (the time was set once)
         self.k = 0             #: grid points stepped
         self.pending = 0.0     #: [N s]
         self.pending_load = 0.0  #: [N], NaN for a mixed impulse
@@ -183,8 +184,11 @@ class ElasticModel(ModelBase):
     @time.setter
     def time(self, value: float) -> None:
         clock = self.clock
-        if clock.k == 0 and clock.pending == 0.0:
-            clock.origin = value          # the grid starts where the first step starts
+        if not clock.started:
+            # The grid starts where the first step starts, and stays there: a grid that
+            # followed the time while nothing happened would differ between host grids
+            # once a strike at the start acts.
+            clock.origin, clock.started = value, True
         clock.time = value
 
     def steps_for(self, h: float) -> int:
@@ -350,7 +354,8 @@ class ElasticModel(ModelBase):
     def get_state(self) -> dict:
         """A copy of the whole state: clock, fields, tracked displacements, works."""
         clock = self.clock
-        state = {"time": clock.time, "origin": clock.origin, "k": clock.k,
+        state = {"time": clock.time, "origin": clock.origin, "started": clock.started,
+                 "k": clock.k,
                  "pending": clock.pending, "pending_load": clock.pending_load}
         state.update({name: getattr(self, name).copy() for name in _FIELDS})
         state["modes"] = np.array(self._modes, dtype=np.int64).reshape(-1, 2)
@@ -369,6 +374,7 @@ class ElasticModel(ModelBase):
         self._modes = [tuple(map(int, row)) for row in np.asarray(state["modes"]).reshape(-1, 2)]
         clock = self.clock
         clock.time, clock.origin = float(state["time"]), float(state["origin"])
+        clock.started = bool(state["started"])
         clock.k, clock.pending = int(state["k"]), float(state["pending"])
         clock.pending_load = float(state["pending_load"])
 

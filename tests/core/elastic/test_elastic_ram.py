@@ -133,3 +133,36 @@ def test_the_ram_gone_lets_the_pipe_rest():
     model.advance(0.0, 10.0)
     assert model.outputs().at_rest and model.outputs().v_pipe == 0.0
     assert model.acc[12] < before[12]          # the compression shrank: the ram moved away
+
+
+@pytest.mark.parametrize("first", [0.643, 1.5, 2.0])
+def test_a_strike_at_the_start_gives_the_same_bits_on_every_host_grid(first):
+    """The grid starts at the first step's start and stays there: a quiet first step (no load,
+    the pipe at rest) ending between grid points must not move it. Reference: the same strike
+    stepped on the grid's own points."""
+    params = dict(L1=3.0, L2=0.6, tau1=2e4, tau2=1e4, dx=0.05, ram_mass=300.0,
+                  cushion_stiffness=5e8, cushion_restitution=0.8, x_monitor=1.0)
+    on_grid, off_grid = elastic(params), elastic(params)
+    h = on_grid.grid.h_max
+    for model in (on_grid, off_grid):
+        model.strike(V0)
+    on_grid.advance_to(0.0, 400 * h, 0.0)
+    off_grid.advance_to(0.0, first * h, 0.0)
+    off_grid.advance_to(0.0, 400 * h, first * h)    # as a host gives its own time
+    assert on_grid.outputs() == off_grid.outputs()
+    assert on_grid.outputs().W_friction > 0.0       # the strike moved the pipe
+
+
+def test_a_quiet_start_then_a_blow_gives_the_same_bits_on_every_host_grid():
+    """No ram: Q = 0 over a first step ending between grid points, then a blow from a grid
+    point; the same as the blow stepped from the start on the grid's points."""
+    on_grid, off_grid = elastic(dict(L1=3.0, dx=0.05)), elastic(dict(L1=3.0, dx=0.05))
+    h = on_grid.grid.h_max
+    on_grid.advance_to(0.0, 10 * h, 0.0)
+    off_grid.advance_to(0.0, 0.4 * h, 0.0)
+    off_grid.advance_to(0.0, 10 * h, 0.4 * h)
+    for model in (on_grid, off_grid):
+        model.advance_to(2e5, 60 * h)
+        model.advance_to(0.0, 300 * h)
+    assert on_grid.outputs() == off_grid.outputs()
+    assert on_grid.outputs().W_input > 0.0
