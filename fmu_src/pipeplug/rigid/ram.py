@@ -219,7 +219,11 @@ def make_ram_piece(st, par, t0, u1, v1, u2, v2, q, kick):
     delta, vr, dmax = st[D0], st[VR], st[DMAX]
     kick1 = int(st[KICK1])
     cushion = k > 0.0
-    fc = cushion_force(delta, dmax, k, ku) if cushion else 0.0
+    touch = dmax - par[P_E2] * dmax           # where the unloading line's force is 0
+    fc = 0.0
+    if cushion:
+        # the branch's own form, so that a compression set onto ``touch`` has no force at all
+        fc = k * delta if delta >= dmax else max(0.0, ku * (delta - touch))
     riding = False
     if not cushion and delta == 0.0 and vr == v1:
         # Touching without closing: the ram rides when the pipe alone would slow down (it
@@ -257,7 +261,6 @@ def make_ram_piece(st, par, t0, u1, v1, u2, v2, q, kick):
         _pipe_motion(st, par, u1, v1, a1)
         return
     if cushion:
-        touch = dmax - par[P_E2] * dmax           # the unloading line's zero force
         pressing = fc > 0.0 or (delta >= touch and (closing > 0.0 or (closing == 0.0
                                                                        and a1 < 0.0)))
         if pressing:
