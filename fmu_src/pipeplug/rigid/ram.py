@@ -489,13 +489,7 @@ def impact(st, par, v1, vr):
 
 
 @jitable
-def _resolution(t0, t_lim):
-    """The resolution of absolute time near ``t0 + t_lim`` [s] (see pieces)."""
-    return 2.0 * ulp(t0 + t_lim)
-
-
-@jitable
-def first_crossing(c, s, t_max, xtol, immediate):
+def first_crossing(c, s, t_max, immediate):
     """First time in [0, t_max] [s] at which ``s f(t) <= 0``, ``f`` the
     :func:`~pipeplug.rigid.motion.line_and_sine` of ``c`` (``inf``: none).
 
@@ -503,7 +497,9 @@ def first_crossing(c, s, t_max, xtol, immediate):
     amplitude of 0; that window is split at the critical points of ``f`` (closed form), and the
     first monotone part whose end has left the sign ``s`` holds the root, refined by
     :func:`~pipeplug.rigid.motion.refine_root` (the first float past it, whatever the part's
-    ends, so that the events do not depend on how far ahead the search looked). A piece may
+    ends, so that the events do not depend on how far ahead the search looked; the iteration
+    runs to a few ulps of the time since the piece's start, not to the absolute time's coarser
+    resolution, from which that walk could not reach the same float on every grid). A piece may
     start with ``s f(0) <= 0``: ``immediate`` (a force at a friction limit) returns 0 when the
     first part goes on past the limit; otherwise (a velocity or a compression starting at its
     event's value, as the piece's modes chose) a first part going the other way is round-off.
@@ -548,7 +544,7 @@ def first_crossing(c, s, t_max, xtol, immediate):
             if fa > 0.0:
                 if fb == 0.0:
                     return b
-                return refine_root(LINE_AND_SINE, c, 0.0, 0.0, 0.0, a, b, xtol)
+                return refine_root(LINE_AND_SINE, c, 0.0, 0.0, 0.0, a, b, 0.0)
             if not first:
                 return a
             if immediate:
@@ -596,21 +592,20 @@ def _velocity_line(st, v0, a0):
 def _coupled_events(st, par, horizon):
     """The pipe's events while it slides coupled to the ram by the cushion: it stops, the plug
     sticks, or the carried plug breaks away."""
-    s1, t0 = st[S1], st[T0]
-    xtol = _resolution(t0, horizon)
-    t_rest = first_crossing(_velocity_line(st, st[V1], st[A1]), s1, horizon, xtol, False)
+    s1 = st[S1]
+    t_rest = first_crossing(_velocity_line(st, st[V1], st[A1]), s1, horizon, False)
     t_lim = min(t_rest, horizon)
     t_b, label = _INF, 0
     if st[KIND] == BOTH_SLIDE:
         line = _velocity_line(st, st[V1] - st[V2], st[A1] - st[A2])
-        t_b, label = first_crossing(line, st[S2], t_lim, xtol, False), STICK
+        t_b, label = first_crossing(line, st[S2], t_lim, False), STICK
     elif par[P_COUPLED] != 0.0:
         # the carried plug needs M2 a1(t), a1 = the derivative of the pipe's velocity
         c0, c1, c2, c3, w = _velocity_line(st, st[V1], st[A1])
         plug_limit = par[P_F2] / par[P_M2]
         for s in (1, -1):
             line = (plug_limit - s * (c1 + c3), 0.0, s * c3, -s * c2 * w * w, w)
-            t = first_crossing(line, 1.0, t_lim, xtol, True)
+            t = first_crossing(line, 1.0, t_lim, True)
             if t < t_b:
                 t_b, label = t, (16 if s == 1 else 32)      # BREAKAWAY_POS / _NEG
     return _merge(t_rest, PIPE_REST, t_b, label)
@@ -626,16 +621,14 @@ def _level(st, target, sign):
 @jitable
 def _cushion_events(st, par, t_lim):
     """The cushion's and the held pipe's events while the ram presses the cushion."""
-    t0 = st[T0]
-    xtol = _resolution(t0, t_lim)
     t_ev, labels = _INF, 0
     if st[RAM] == LOADING:
         t_ev, labels = time_to_rest(rel_of(st), 1.0), LOAD_END
     else:
-        t_ev, labels = _merge(first_crossing(_level(st, st[DB], 1.0), 1.0, t_lim, xtol, False),
+        t_ev, labels = _merge(first_crossing(_level(st, st[DB], 1.0), 1.0, t_lim, False),
                               SEPARATE,
-                              first_crossing(_level(st, st[DMAX], -1.0), 1.0, t_lim, xtol,
-                                             False), RELOAD)
+                              first_crossing(_level(st, st[DMAX], -1.0), 1.0, t_lim, False),
+                              RELOAD)
     if st[S1] == 0.0:
         # the soil holds the pipe while |Q + F + f2| <= its limit: two levels of delta
         f2 = st[FS2] if st[KIND] == AT_REST else -st[S2] * par[P_F2]
@@ -646,7 +639,7 @@ def _cushion_events(st, par, t_lim):
             reach = st[DB] + (s * hold - q - f2) / kb
             if s == -1 and not reach > st[DB]:
                 continue               # the cushion pulls never: its force cannot hold less
-            t = first_crossing(_level(st, reach, -s), 1.0, min(t_lim, t_ev), xtol, True)
+            t = first_crossing(_level(st, reach, -s), 1.0, min(t_lim, t_ev), True)
             t_ev, labels = _merge(t_ev, labels, t, PIPE_GO_POS if s == 1 else PIPE_GO_NEG)
     return t_ev, labels
 
