@@ -53,8 +53,9 @@ OUTPUTS: tuple[Output, ...] = (
            "the part of W_friction dissipated between pipe and plug"),
     Output("E_kinetic", "J", "Real", "kinetic energy of pipe and plug (elastic: the scheme's "
                                      "discrete kinetic energy, >= 0)"),
-    Output("E_strain", "J", "Real", "strain energy of pipe and plug (rigid: 0; elastic: the "
-                                    "scheme's discrete strain energy, >= 0)"),
+    Output("E_strain", "J", "Real", "strain energy of pipe, plug and cushion (rigid: the "
+                                    "cushion's recoverable energy, 0 without a ram; elastic: "
+                                    "the scheme's discrete strain energy, >= 0)"),
     Output("W_numerical", "J", "Real", "energy the numerical scheme dissipated since t = 0 (>= 0; "
                                        "fd: the impulses' share; exact and elastic: 0): W_input "
                                        "= E_kinetic + E_strain + W_friction + W_numerical"),
@@ -70,7 +71,9 @@ OUTPUTS: tuple[Output, ...] = (
     Output("stress_head", "Pa", "Real", "axial stress at the head, compression negative"),
     Output("stress_min", "Pa", "Real", "most compressive axial stress anywhere along the pipe "
                                        "during the last communication step (rigid models: "
-                                       "from the rigid body's equilibrium at its end)"),
+                                       "from the rigid body's equilibrium, at the step's end "
+                                       "without a ram; with one, exact over the step but for "
+                                       "a direct impact's impulse)"),
     Output("stress_max", "Pa", "Real", "most tensile axial stress anywhere along the pipe "
                                        "during the last communication step (same rule)"),
     Output("at_rest", "1", "Boolean", "true when a step under Q = 0 would leave the whole state "

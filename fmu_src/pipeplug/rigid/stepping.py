@@ -282,7 +282,8 @@ def outputs_at(st, par, t):
     """The 24 outputs of :data:`pipeplug.interface.OUTPUTS` at absolute time(s) ``t`` [s]
     inside the current piece (floats; at_rest and the modes as 0.0/1.0 and -1.0/0.0/1.0).
     Rigid bodies store no strain energy, the exact solution dissipates nothing but friction
-    work, and no ram strikes: the head force is Q, its work the input work, and the axial
+    work, and no ram strikes (a model with a ram runs :mod:`~pipeplug.rigid.ramstep`): the head
+    force is Q, its work the input work, and the axial
     stresses are those of the rigid pipe's equilibrium (:mod:`pipeplug.rigid.stress`)."""
     u1, v1, u2, v2, w_in, w_outer, w_inner = values_at(st, par, t)
     f1, f2 = forces_of(st, par, u1)
