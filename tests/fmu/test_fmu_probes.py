@@ -14,12 +14,15 @@ cleanly.
 from __future__ import annotations
 
 import stat
+import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 from fmi_c_host import hexed
 from probes import DISCARD, ERROR, PROBES, Session
 
+HERE = Path(__file__).resolve().parent
 CATEGORY = {ERROR: "logStatusError", DISCARD: "logStatusDiscard"}
 CASES = [(name, host, logging) for name, (_, expected) in PROBES.items()
          for host in expected.hosts for logging in (True, False)]
@@ -102,3 +105,54 @@ def _another_instance_runs(s: Session) -> None:
         assert s.step(ident, k * 1e-3, 1e-3)["status"] == 0
     values = s.call(ident, "getReal", 1, s.vr("v_pipe"))
     assert values["status"] == 0 and float(values["words"][1]) > 0.0, values
+
+
+SIMULATE = """
+import sys
+from fmpy import simulate_fmu
+from fmpy.fmi1 import FMICallException
+try:
+    simulate_fmu(sys.argv[1], start_values={"L2": 3.0})      # FMPy's defaults: logging off
+except FMICallException as exc:
+    print("STATUS", int(exc.status), flush=True)
+"""
+
+
+def test_simulate_fmu_with_fmpys_defaults_prints_the_line_and_fails_with_error(fmu_file):
+    proc = subprocess.run([sys.executable, "-c", SIMULATE, str(fmu_file)], capture_output=True,
+                          text=True, timeout=300, check=False)
+    assert proc.returncode == 0, proc.stderr[-3000:]
+    out = proc.stdout + proc.stderr
+    assert ("L2 = 3.0 is not allowed; allowed: finite, >= 0 and <= L1 (L1 = 1.0)" in out), out
+    assert "STATUS 3" in proc.stdout, out
+
+
+LIBCOSIM = """
+import shutil, sys, tempfile
+from pathlib import Path
+from libcosimpy.CosimExecution import CosimExecution
+from libcosimpy.CosimLogging import CosimLogLevel, log_output_level
+sys.path.insert(0, sys.argv[2])
+from fmu_cosim import _OSP, _initial_value
+log_output_level(CosimLogLevel.WARNING)
+folder = Path(tempfile.mkdtemp())
+shutil.copy(sys.argv[1], folder / "PipePlug.fmu")
+osp = folder / "OspSystemStructure.xml"
+osp.write_text(_OSP.format(step="0.001", initial=_initial_value("L2", 3.0)))
+execution = CosimExecution.from_osp_config_file(str(osp))    # values not checked first
+print("BUILT", flush=True)
+execution.simulate_until(10 ** 7)
+print("NOT ENDED", flush=True)
+"""
+
+
+def test_libcosim_gets_the_line_before_it_ends_its_process(fmu_file):
+    """libcosim ends its own process when exitInitializationMode fails (``pipeplug system``
+    checks the values first, ``test_fmu_bad_input.py``); the line is logged before."""
+    proc = subprocess.run([sys.executable, "-c", LIBCOSIM, str(fmu_file), str(HERE)],
+                          capture_output=True, text=True, timeout=300, check=False)
+    out = proc.stdout + proc.stderr
+    assert "BUILT" in proc.stdout and "NOT ENDED" not in proc.stdout, out
+    assert proc.returncode != 0, out                   # libcosim's std::terminate
+    logged = out.index("category=logStatusError] L2 = 3.0 is not allowed")
+    assert logged < out.index("terminate called"), out
