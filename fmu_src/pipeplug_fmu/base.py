@@ -508,7 +508,8 @@ def _mark_of(state) -> str:
 def conformity(reference: dict, given) -> str | None:
     """What makes ``given`` unlike ``reference`` (a model state: names to numbers and arrays),
     None when it conforms: the same names, numbers of the same type, arrays of the same kind,
-    dimensions and trailing shape; no NaN anywhere."""
+    dimensions and trailing shape; finite wherever ``reference`` is (a model may mark a field
+    unset with NaN, as the exact solver's load before its first step)."""
     if not isinstance(given, dict) or set(given) != set(reference):
         names = sorted(set(given) ^ set(reference)) if isinstance(given, dict) else given
         return f"fields {names!r} differ"
@@ -520,9 +521,11 @@ def conformity(reference: dict, given) -> str | None:
                     and (value.ndim == 0 or value.shape[0] == ref.shape[0]
                          or ref.dtype.kind == "i")):
                 return f"field {name!r} is not an array like {ref.dtype}{list(ref.shape)}"
-            if value.dtype.kind == "f" and bool((value != value).any()):
-                return f"field {name!r} holds NaN"
-        elif _number_kind(value) != _number_kind(ref) or value != value:
+            if value.dtype.kind == "f" and _all_finite(ref.ravel()) and not _all_finite(
+                    value.ravel()):
+                return f"field {name!r} holds a value that is not finite"
+        elif _number_kind(value) != _number_kind(ref) or (
+                _all_finite((ref,)) and not _all_finite((value,))):
             return f"field {name!r} = {value!r} is not a number like {ref!r}"
     return None
 

@@ -20,8 +20,9 @@ binary is shipped unchanged and has none of them.
         categories filter error lines too.                                   the loader filters
  P4     A message reaches the host's logger as its printf format string.    :func:`escape_percent`
  P5     Lines queued by the slave in a call that raises are given to the     the base never
-        host's logger while the exception is pending (a Python callback of   queues a line in a
-        the host then runs with an error set).                               call that raises
+        host's logger while the exception is pending: a Python host's        queues a line in a
+        logger runs with an error set, and the exception is lost ("unknown   call that raises
+        error" instead of the refusal).
  P6     Value references reach the slave as C ``int``: 2**31 and above       :func:`value_
         arrive negative.                                                     reference`
  P7     fmi2SetString of bytes that are not UTF-8 leaves a NULL in the list  loader: such bytes
