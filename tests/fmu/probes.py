@@ -229,9 +229,38 @@ def state(kind):
                      + blob[at + 2:]), ident
         if kind == "garbage":
             return s("deserialize", ident, hexed(b"not a PipePlug state")), ident
+        if kind in ("NaN time", "NaN model field"):
+            copy = s("deserialize", ident, _with_nan(blob, kind))
+            assert copy["status"] == 0 and copy["log"] == [], copy     # framed as written
+            return s("set_state", ident, copy["words"][0]), ident
         saved = s("get_state", ident)["words"][0]               # kind "small buffer"
         return s("serialize", ident, saved, 16), ident
     return probe
+
+
+def _with_nan(blob: str, kind: str) -> str:
+    """A serialized state (hex) with a NaN put in, framed again as the loader frames states
+    (``states.c``: "FMI2STAT", identity, payload length and FNV-1a hash, 8 bytes each)."""
+    import io
+
+    import numpy as np
+
+    data = bytes.fromhex(blob)
+    head, _, model = data[32:].partition(b"\n")
+    if kind == "NaN time":
+        head = head.replace(b'"time": 0.0,', b'"time": NaN,')
+    else:
+        fields = dict(np.load(io.BytesIO(model)))
+        fields["V1"] = np.array(np.nan)
+        out = io.BytesIO()
+        np.savez(out, **fields)
+        model = out.getvalue()
+    payload = head + b"\n" + model
+    digest = 0xcbf29ce484222325
+    for byte in payload:
+        digest = ((digest ^ byte) * 0x100000001b3) % 2 ** 64
+    return (data[:16] + len(payload).to_bytes(8, "little") + digest.to_bytes(8, "little")
+            + payload).hex()
 
 
 def python_answering(s: Session):
@@ -354,6 +383,10 @@ PROBES = {
                                                                   "length"))),
     "serialized state corrupt": (state("corrupt"), Expected(ERROR, ("checksum",))),
     "serialized state of nothing": (state("garbage"), Expected(ERROR, ("serializedState",))),
+    "state with a NaN time": (state("NaN time"), Expected(ERROR, ("FMUstate time = nan",
+                                                                  "finite"))),
+    "state with a NaN model field": (state("NaN model field"),
+                                     Expected(ERROR, ("FMUstate", "'V1' = nan"))),
     "serialize into a small buffer": (state("small buffer"), Expected(ERROR, ("size = 16",))),
     # A Python that never answers (the C host; a Python host brings its own).
     "python never exits": (python_answering, Expected(
