@@ -84,8 +84,9 @@ out of the FMI 2.0 call sequence, a NULL array or pointer, an FMU state that is 
 build, and a step whose outputs would not be finite are refused with fmi2Error; each refusal is
 one log line naming the variable (or the call), its value and what is allowed, logged whether
 debug logging is on or off. After an fmi2Error the instance accepts fmi2SetFMUstate, fmi2Reset,
-fmi2Terminate and fmi2FreeInstance; every other call is refused with one short line until
-fmi2Reset (or a state set), which makes it usable again; other instances are not affected.</li>
+fmi2Terminate and fmi2FreeInstance; every other call is refused with one short line
+until fmi2Reset (or a state set), which makes it usable again; other instances are not
+affected.</li>
 <li>Every log line carries a category of the LogCategories in modelDescription.xml
 (logStatusDiscard, logStatusError, ...); a <code>%</code> in logged text is written
 <code>%%</code>, as hosts format log messages with printf.</li>
