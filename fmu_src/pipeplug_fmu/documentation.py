@@ -121,8 +121,8 @@ asked is stopped and not used.</p>
 <p>On win64 the binary is pythonfmu's own, unchanged: it needs a Python-hosted importer with
 numpy; it refuses the same values and calls, but reports refusals as fmi2Fatal (with no category)
 instead of fmi2Error, logs nothing with debug logging off, and has none of the linux64 loader's
-checks of pointers, strings and resource locations. The win64 binary is not run-tested by this
-project.</p>
+checks of pointers, strings and resource locations. The win64 binary
+is not run-tested by this project.</p>
 <p>The FMU brings its own copy of the core and uses it even when the host has imported
 another one. With numba installed, the elastic kernels are compiled (cached on disk under
 <code>~/.cache/pipeplug</code> or <code>PIPEPLUG_CACHE_DIR</code>); without it, or with
