@@ -70,6 +70,7 @@ class Phase(enum.Enum):
 
 
 _RUNNING = (Phase.STEPPING, Phase.TERMINATED)        # a model exists
+_STEPPING = Phase.STEPPING
 
 
 class Refuse(Exception):
@@ -113,7 +114,7 @@ class FmiBase(Fmi2Slave):
         super().__init__(**kwargs)
         self._tables = {kind: {} for kind in _TYPES}       # kind -> {value reference: value}
         self._variables: list[Variable] = []                 # by value reference
-        self._phase = Phase.INSTANTIATED
+        self._phase = Phase.INSTANTIATED      # changed by _enter() only
         self._time = 0.0                  # the FMU's own time [s]
         self._stop_time = None            # stopTime of fmi2SetupExperiment [s], None: none
         self._stop_limit = math.inf       # the last end of a step accepted [s]
@@ -152,6 +153,12 @@ class FmiBase(Fmi2Slave):
                                    if v.causality == "output")
         self._by_name = {v.name: v for v in self._variables}
         self._reals = self._tables["Real"]
+        self._enter(self._phase)
+
+    def _enter(self, phase: Phase) -> None:
+        """Go to ``phase``; keep what the per-step calls look at at hand."""
+        self._phase = phase
+        self._real_inputs = self._settable[phase]["Real"]     # settable Reals now
 
     # Hooks of the subclass --------------------------------------------------------------------
     def _build(self, values: dict):
@@ -193,7 +200,7 @@ class FmiBase(Fmi2Slave):
     def enter_initialization_mode(self):
         try:
             self._expect("fmi2EnterInitializationMode", Phase.INSTANTIATED)
-            self._phase = Phase.INITIALIZATION
+            self._enter(Phase.INITIALIZATION)
         except Exception as exc:
             self._fail("fmi2EnterInitializationMode", exc)
 
@@ -201,7 +208,7 @@ class FmiBase(Fmi2Slave):
         try:
             self._expect("fmi2ExitInitializationMode", Phase.INITIALIZATION)
             self._model = self._build(self._named_values())
-            self._phase = Phase.STEPPING
+            self._enter(Phase.STEPPING)
             self._refresh()
         except Exception as exc:
             self._fail("fmi2ExitInitializationMode", exc)
@@ -209,21 +216,27 @@ class FmiBase(Fmi2Slave):
     def terminate(self):
         try:
             self._expect("fmi2Terminate", Phase.STEPPING)
-            self._phase = Phase.TERMINATED
+            self._enter(Phase.TERMINATED)
         except Exception as exc:
             self._fail("fmi2Terminate", exc)
 
     def do_step(self, current_time, step_size):
         try:
-            if self._phase is not Phase.STEPPING:
-                self._expect("fmi2DoStep", Phase.STEPPING)
+            if self._phase is not _STEPPING:
+                self._expect("fmi2DoStep", _STEPPING)
             t, end = self._time, current_time + step_size
             # Written so that NaN fails every test: ``not (x <= bound)`` rather than ``x > bound``.
             if not (abs(current_time - t) <= TIME_TOLERANCE * max(1.0, abs(t))
                     and step_size > 0.0 and end > t and end <= self._stop_limit):
                 return self._refuse_step(current_time, step_size)
             out = self._step(self._model, current_time, step_size)
-            if not _all_finite(out):
+            try:                                   # _all_finite(out), inline: every step
+                finite = (total := _fsum(out)) - total == 0.0
+            except OverflowError:                  # finite terms whose sum overflows
+                finite = True
+            except ValueError:                     # inf - inf
+                finite = False
+            if not finite:
                 raise Refuse(self._not_finite(out, current_time, step_size))
         except Discard as exc:
             self.log(escape_percent(exc.line), Fmi2Status.discard)
@@ -290,9 +303,9 @@ class FmiBase(Fmi2Slave):
             f"a {kind} variable of {self.model_identifier}"))
 
     def set_real(self, vrs, values):
-        if len(vrs) == 1 and vrs[0] in self._settable[self._phase]["Real"]:
+        if len(vrs) == 1 and vrs[0] in self._real_inputs:
             self._reals[vrs[0]] = values[0]               # the input, every step: first
-            if self._phase is not Phase.STEPPING:
+            if self._phase is not _STEPPING:
                 self._refresh()
             return
         self._set("Real", vrs, values)
@@ -320,7 +333,7 @@ class FmiBase(Fmi2Slave):
             table = self._tables[kind]
             for vr, value in zip(vrs, values):
                 table[vr] = value
-            if self._phase is not Phase.STEPPING:
+            if self._phase is not _STEPPING:
                 self._refresh()
         except Exception as exc:
             self._fail(f"fmi2Set{kind}", exc)
@@ -367,7 +380,8 @@ class FmiBase(Fmi2Slave):
         for name, value in values.items():              # all checked: now change everything
             var = self._by_name[name]
             self._tables[var.kind][var.vr] = value
-        self._phase, self._time, self._stop_time = phase, time, stop
+        self._time, self._stop_time = time, stop
+        self._enter(phase)
         self._stop_limit, self._model = _stop_limit(stop), model
 
     def _checked_state(self, state) -> tuple:
@@ -463,6 +477,9 @@ def _stop_limit(stop_time) -> float:
     if stop_time is None:
         return math.inf
     return stop_time + TIME_TOLERANCE * max(1.0, abs(stop_time))
+
+
+_fsum = math.fsum
 
 
 def _all_finite(values) -> bool:
