@@ -1,7 +1,8 @@
 """pipeplug_fmu: the FMI adapters of PipePlug and Hammer, the build of their FMUs and of the
 pipe-ramming system files.
 
-* :mod:`pipeplug_fmu.base`: the FMI base of both slaves (call sequence, refusals, FMU state);
+* :mod:`pipeplug_fmu.base`: the FMI base of both slaves (call sequence, refusals, FMU state;
+  with :mod:`pipeplug_fmu.sequence` and :mod:`pipeplug_fmu.fmu_state`);
 * :mod:`pipeplug_fmu.pythonfmu07`: every pythonfmu 0.7 workaround, with the behaviour it works
   around;
 * :mod:`pipeplug_fmu.slave`: the pythonfmu slave around the core (runs only inside an FMU);

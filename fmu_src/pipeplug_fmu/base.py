@@ -1,8 +1,9 @@
 """The FMI 2.0 co-simulation base of the project's FMUs (PipePlug and Hammer) on pythonfmu 0.7.
 
 One base, as the Reference-FMUs share one ``fmi2Functions.c``: it holds the variables' values,
-the FMI 2.0 call sequence, every refusal and the FMU state. A slave subclasses it, registers
-its variables with :meth:`FmiBase._add` and supplies four hooks:
+the FMI 2.0 call sequence (:mod:`~pipeplug_fmu.sequence`), every refusal and the FMU state
+(:mod:`~pipeplug_fmu.fmu_state`). A slave subclasses it, registers its variables with
+:meth:`FmiBase._add` and supplies four hooks:
 
 * ``_build(values)``: the model of the parameter values (by name), at
   fmi2ExitInitializationMode and when a state is restored; raises :class:`Refuse`;
@@ -34,8 +35,6 @@ returns; pythonfmu's win64 binary has no such gate.
 """
 from __future__ import annotations
 
-import enum
-import json
 import math
 from dataclasses import dataclass
 
@@ -43,51 +42,14 @@ from pythonfmu import Boolean, Fmi2Slave, Integer, Real, String
 from pythonfmu.enums import Fmi2Status
 
 from .fmi import decorate_model_description, refusal
-from .pythonfmu07 import (
-    NOT_UTF8,
-    Refusal,
-    escape_percent,
-    never_raising,
-    outlive_the_exception,
-    value_reference,
-)
+from .fmu_state import StateHandling, conformity
+from .pythonfmu07 import NOT_UTF8, Refusal, escape_percent, outlive_the_exception, value_reference
+from .sequence import TIME_TOLERANCE, Discard, Phase, Refuse, all_finite, stop_limit
 
 __all__ = ["FmiBase", "Phase", "Refuse", "Discard", "TIME_TOLERANCE", "conformity"]
 
-#: Relative tolerance of a communication point against the FMU's time (contract "Stepping").
-TIME_TOLERANCE = 1e-9
-
 _TYPES = {"Real": Real, "Integer": Integer, "Boolean": Boolean, "String": String}
-
-
-class Phase(enum.Enum):
-    """The FMI 2.0 co-simulation states an instance goes through (error is the loader's)."""
-
-    INSTANTIATED = "instantiated"
-    INITIALIZATION = "initialization mode"
-    STEPPING = "stepping"
-    TERMINATED = "terminated"
-
-
-_RUNNING = (Phase.STEPPING, Phase.TERMINATED)        # a model exists
 _STEPPING = Phase.STEPPING
-
-
-class Refuse(Exception):
-    """Raised by a hook: refuse the call with fmi2Error and this line (``%`` not escaped)."""
-
-    def __init__(self, line: str):
-        super().__init__(line)
-        self.line = line
-
-    @classmethod
-    def of(cls, name: str, value: object, allowed: str) -> Refuse:
-        """The refusal of variable ``name`` at ``value`` (see :func:`~pipeplug_fmu.fmi.refusal`)."""
-        return cls(refusal(name, value, allowed))
-
-
-class Discard(Refuse):
-    """Raised by ``_step``: the step cannot be taken (fmi2Discard); nothing has changed."""
 
 
 @dataclass(frozen=True)
@@ -103,7 +65,7 @@ class Variable:
     allowed: str
 
 
-class FmiBase(Fmi2Slave):
+class FmiBase(StateHandling, Fmi2Slave):
     """The FMI side of a slave (see the module docstring); subclasses set
     :attr:`model_identifier`, register variables in ``_register`` and supply the hooks."""
 
@@ -192,7 +154,7 @@ class FmiBase(Fmi2Slave):
                 raise Refuse.of("stopTime", stop_time,
                                 f"finite, >= startTime = {start_time!r} [s]")
             self._time, self._stop_time = float(start_time), stop_time
-            self._stop_limit = _stop_limit(stop_time)
+            self._stop_limit = stop_limit(stop_time)
             self._refresh()
         except Exception as exc:
             self._fail("fmi2SetupExperiment", exc)
@@ -266,7 +228,7 @@ class FmiBase(Fmi2Slave):
     def _not_finite(self, out, t, h) -> str:
         """The refusal of a step whose outputs are not all finite (the first one named)."""
         outputs = [v for v in self._variables if v.causality == "output"]
-        name, value = next((v.name, x) for v, x in zip(outputs, out) if not _all_finite((x,)))
+        name, value = next((v.name, x) for v, x in zip(outputs, out) if not all_finite((x,)))
         return refusal(name, value, f"finite; the step from t = {t!r} s by {h!r} s exceeded "
                                     f"what the model computes (set a saved FMU state or reset)")
 
@@ -351,100 +313,6 @@ class FmiBase(Fmi2Slave):
         return Refuse.of(var.name, value, f"no change after initialization (fixed parameter; "
                                           f"it stays {self._tables[kind][vr]!r})")
 
-    # FMU state -------------------------------------------------------------------------------
-    def _state_mark(self) -> str:
-        """What a state of this FMU and build is marked with (the module name has the build's
-        tag)."""
-        return f"{self.model_identifier} state of {type(self).__module__}"
-
-    def _get_fmu_state(self):
-        try:
-            model = self._save(self._model) if self._phase in _RUNNING else None
-            values = {v.name: _PLAIN[v.kind](self._tables[v.kind][v.vr])
-                      for v in self._variables}            # plain Python: JSON-ready
-            return {"mark": self._state_mark(), "phase": self._phase.value, "time": self._time,
-                    "stop": self._stop_time, "values": values, "model": model}
-        except Exception as exc:
-            self._fail("fmi2GetFMUstate", exc)
-
-    def _set_fmu_state(self, state):
-        try:
-            phase, time, stop, values = self._checked_state(state)
-            model = None
-            if phase in _RUNNING:
-                model = self._build({n: values[n] for n, v in self._by_name.items()
-                                     if v.causality == "parameter"})
-                self._load(model, state["model"])
-        except Exception as exc:
-            self._fail("fmi2SetFMUstate", exc)
-        for name, value in values.items():              # all checked: now change everything
-            var = self._by_name[name]
-            self._tables[var.kind][var.vr] = value
-        self._time, self._stop_time = time, stop
-        self._enter(phase)
-        self._stop_limit, self._model = _stop_limit(stop), model
-
-    def _checked_state(self, state) -> tuple:
-        """Phase, time, stop time and values of a state; raises :class:`Refuse` with what is
-        wrong with it."""
-        allowed = (f"a state of this {self.model_identifier} build from fmi2GetFMUstate or "
-                   f"fmi2DeSerializeFMUstate")
-        if not isinstance(state, dict) or state.get("mark") != self._state_mark():
-            reason = state.get("invalid") if isinstance(state, dict) else None
-            raise Refuse.of("FMUstate", reason or _mark_of(state), allowed)
-        try:
-            phase = Phase(state["phase"])
-            time, stop, values = state["time"], state["stop"], dict(state["values"])
-        except Exception as exc:
-            raise Refuse.of("FMUstate", f"{type(exc).__name__}: {exc}", allowed) from None
-        if type(time) is not float or not math.isfinite(time):
-            raise Refuse.of("FMUstate time", time, "finite [s]")
-        if stop is not None and not (type(stop) is float and math.isfinite(stop)):
-            raise Refuse.of("FMUstate stopTime", stop, "None or finite [s]")
-        if set(values) != set(self._by_name):
-            raise Refuse.of("FMUstate variables", sorted(set(values) ^ set(self._by_name)),
-                            f"exactly the variables of {self.model_identifier}")
-        for name, value in values.items():
-            var = self._by_name[name]
-            if not _of_kind(value, var.kind) or (var.causality == "output"
-                                                 and not _all_finite((value,))):
-                raise Refuse.of(f"FMUstate {name}", value, f"a {var.kind}" + (
-                    ", finite" if var.causality == "output" else ""))
-        if (phase in _RUNNING) != isinstance(state.get("model"), dict):
-            raise Refuse.of("FMUstate model", type(state.get("model")).__name__,
-                            "the model's state once initialized, none before")
-        return phase, time, stop, values
-
-    @classmethod
-    def _model_to_bytes(cls, saved: dict) -> bytes:
-        """The model's own state as bytes (default: JSON)."""
-        return json.dumps(saved).encode()
-
-    @classmethod
-    def _model_from_bytes(cls, data: bytes) -> dict:
-        """Inverse of :meth:`_model_to_bytes`."""
-        return json.loads(data.decode())
-
-    @classmethod
-    @never_raising(lambda exc: json.dumps({"invalid": f"{type(exc).__name__}: {exc}"}).encode())
-    def _fmu_state_to_bytes(cls, state):
-        """A state as bytes: its JSON without the model, a newline, the model's bytes."""
-        head = dict(state)
-        model = head.pop("model", None)
-        head["model"] = model is not None
-        return (json.dumps(head).encode() + b"\n"
-                + (cls._model_to_bytes(model) if model is not None else b""))
-
-    @classmethod
-    @never_raising(lambda exc: {"invalid": f"{type(exc).__name__}: {exc}"})
-    def _fmu_state_from_bytes(cls, data):
-        head, _, blob = bytes(data).partition(b"\n")
-        state = json.loads(head.decode())
-        if not isinstance(state, dict):
-            raise ValueError("not a state")
-        state["model"] = cls._model_from_bytes(blob) if state.get("model") is True else None
-        return state
-
     # Refusals ---------------------------------------------------------------------------------
     def _expect(self, call: str, phase: Phase) -> None:
         """Refuse ``call`` unless the instance is in ``phase``."""
@@ -472,36 +340,7 @@ class FmiBase(Fmi2Slave):
         return root
 
 
-def _stop_limit(stop_time) -> float:
-    """The last end of a step allowed by ``stop_time`` [s] (inf without one)."""
-    if stop_time is None:
-        return math.inf
-    return stop_time + TIME_TOLERANCE * max(1.0, abs(stop_time))
-
-
 _fsum = math.fsum
-
-
-def _all_finite(values) -> bool:
-    """True when every number of ``values`` is finite (bools and ints count as finite)."""
-    try:
-        total = math.fsum(values)
-    except OverflowError:           # finite terms whose sum overflows
-        return True
-    except ValueError:              # inf - inf
-        return False
-    return total - total == 0.0
-
-
-_NUMBER_KINDS = {"Real": "f", "Integer": "i", "Boolean": "b"}
-_PLAIN = {"Real": float, "Integer": int, "Boolean": bool, "String": str}
-
-
-def _of_kind(value, kind: str) -> bool:
-    """Whether ``value`` is a value of FMI type ``kind`` (a bool is no Integer, nor a Real)."""
-    if kind == "String":
-        return type(value) is str
-    return _number_kind(value) == _NUMBER_KINDS[kind]
 
 
 def _shown(value) -> object:
@@ -515,41 +354,3 @@ def _shown(value) -> object:
     return value
 
 
-def _mark_of(state) -> str:
-    """What a refused state is, in a few words."""
-    if isinstance(state, dict):
-        return repr(state.get("mark", "a state without a mark"))
-    return type(state).__name__
-
-
-def conformity(reference: dict, given) -> str | None:
-    """What makes ``given`` unlike ``reference`` (a model state: names to numbers and arrays),
-    None when it conforms: the same names, numbers of the same type, arrays of the same kind,
-    dimensions and trailing shape; finite wherever ``reference`` is (a model may mark a field
-    unset with NaN, as the exact solver's load before its first step)."""
-    if not isinstance(given, dict) or set(given) != set(reference):
-        names = sorted(set(given) ^ set(reference)) if isinstance(given, dict) else given
-        return f"fields {names!r} differ"
-    for name, ref in reference.items():
-        value = given[name]
-        if hasattr(ref, "dtype"):
-            if not (hasattr(value, "dtype") and value.dtype.kind == ref.dtype.kind
-                    and value.ndim == ref.ndim and value.shape[1:] == ref.shape[1:]
-                    and (value.ndim == 0 or value.shape[0] == ref.shape[0]
-                         or ref.dtype.kind == "i")):
-                return f"field {name!r} is not an array like {ref.dtype}{list(ref.shape)}"
-            if value.dtype.kind == "f" and _all_finite(ref.ravel()) and not _all_finite(
-                    value.ravel()):
-                return f"field {name!r} holds a value that is not finite"
-        elif _number_kind(value) != _number_kind(ref) or (
-                _all_finite((ref,)) and not _all_finite((value,))):
-            return f"field {name!r} = {value!r} is not a number like {ref!r}"
-    return None
-
-
-def _number_kind(x) -> str | None:
-    """"b", "i" or "f" for a bool, integer or real number (Python's or numpy's), else None."""
-    kind = getattr(x, "dtype", None)
-    if kind is not None:
-        return kind.kind if x.ndim == 0 else None
-    return {bool: "b", int: "i", float: "f"}.get(type(x))

@@ -60,8 +60,9 @@ class FmuKind:
     documentation: str         # the adapter module with documentation_html()
 
 
-#: The FMI base every FMU ships: base, its pythonfmu 0.7 workarounds, the interface helpers.
-_BASE = ("base.py", "pythonfmu07.py", "fmi.py")
+#: The FMI base every FMU ships: base (with its call sequence and FMU states), its pythonfmu 0.7
+#: workarounds, the interface helpers.
+_BASE = ("base.py", "sequence.py", "fmu_state.py", "pythonfmu07.py", "fmi.py")
 
 #: The project's FMUs by modelIdentifier.
 FMUS = {
