@@ -47,7 +47,8 @@ def test_probe_is_refused_with_one_line_and_the_host_goes_on(name, host, logging
                                                             hammer_dir, c_host, tmp_path):
     probe, expected = PROBES[name]
     if not expected.enabled:
-        pytest.skip("enabled once the core refuses a step of too many internal steps")
+        pytest.skip("runs once the core refuses a step of too many internal steps "
+                    "(max_internal_steps)")
     session = Session(host, logging, fmu_dir, hammer_dir, c_host,
                       _environment(expected.env, tmp_path))
     answer, ident = probe(session)
@@ -64,7 +65,7 @@ def test_probe_is_refused_with_one_line_and_the_host_goes_on(name, host, logging
     if expected.status == ERROR:
         _refuses_until_reset(session, ident)
     elif expected.status == DISCARD:
-        _steps_on(session, ident)
+        _steps_on(session, ident, expected.then_q)
     else:
         _instantiates_again(session)
     _another_instance_runs(session)
@@ -87,9 +88,10 @@ def _refuses_until_reset(s: Session, ident) -> None:
     assert s.step(ident, 0.0, 0.001) == {"status": 0, "kind": "none", "words": [], "log": []}
 
 
-def _steps_on(s: Session, ident) -> None:
+def _steps_on(s: Session, ident, q: float) -> None:
     """After fmi2Discard: nothing changed, the next step from the FMU's time is taken."""
-    assert s.step(ident, 0.005, 0.005) == {"status": 0, "kind": "none", "words": [], "log": []}
+    assert s.step(ident, 0.005, 0.005, q) == {"status": 0, "kind": "none", "words": [],
+                                               "log": []}
 
 
 def _instantiates_again(s: Session) -> None:
