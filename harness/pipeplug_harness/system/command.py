@@ -86,8 +86,11 @@ def _text(value) -> str:
     return repr(float(value))
 
 
-_PANELS = (("force [kN]", ("Q",), 1e-3), ("velocity [m/s]", ("v_pipe", "v_plug"), 1.0),
+#: What each panel draws; a ram's head force and velocity only where the system has a ram.
+_PANELS = (("force [kN]", ("Q", "F_head"), 1e-3), ("velocity [m/s]", ("v_pipe", "v_plug", "v_ram"),
+                                                     1.0),
            ("displacement [m]", ("u_pipe", "u_plug"), 1.0))
+_RAM_ONLY = {"F_head", "v_ram"}
 #: How a piecewise-constant force is drawn from its values after each step: Hammer's Q at t is
 #: the force on [t, next point), PipePlug's input Q at t the force that acted up to t.
 _HELD = {"Hammer": dict(drawstyle="steps-post"), "PipePlug": dict(drawstyle="steps-pre",
@@ -105,7 +108,8 @@ def _plot(path: Path, result: dict, system, source) -> Path:
         for component in system.components.values():
             for variable in variables:
                 column = f"{component.name}.{variable}"
-                if column in result:
+                ram = float(component.values.get("ram_mass", 0.0) or 0.0) > 0.0
+                if column in result and (ram or variable not in _RAM_ONLY):
                     style = _HELD.get(component.model, {}) if variable == "Q" else {}
                     ax.plot(t_ms, result[column] * scale, label=column, **style)
         ax.set_ylabel(label)
