@@ -230,9 +230,9 @@ def strikes(fmu_dir, params, times, schedule, save_index=None):
                 slave.set("strikes", int(plan[a][0]))
                 slave.set("v_strike", float(plan[a][1]))
             status = slave.call("doStep", a, b - a)
-            row = dict(slave.outputs(), status=status, v_ram=slave.get("v_ram"),
-                       W_ram=slave.get("W_ram"), W_cushion=slave.get("W_cushion"),
-                       E_kinetic=slave.get("E_kinetic"))
+            row = dict(slave.outputs(), status=status, **{
+                name: slave.get(name) for name in ("v_ram", "W_ram", "W_cushion", "E_kinetic",
+                                                   "F_head")})
             rows.append(row)
         return rows
 

@@ -4,7 +4,10 @@ one strike there) and ``v_strike``; checked against the ODE reference of model I
 on its own, and under the calls hosts make (no ram, a rise by more than one, a saved state)."""
 from __future__ import annotations
 
+import math
+
 import numpy as np
+import pytest
 from fmu_helpers import run_scenario
 
 from pipeplug_references.ram_ivp import simulate_ram
@@ -19,8 +22,8 @@ RAM = {"ram_mass": 50.0, "cushion_stiffness": 2e7, "cushion_restitution": 0.8}
 V1, V2 = 3.5, 2.0           # [m/s]
 
 
-def _strikes(fmu_dir, params, schedule, **kwargs) -> dict:
-    return run_scenario("strikes", fmu_dir, params=params, times=TIMES, schedule=schedule,
+def _strikes(fmu_dir, params, schedule, times=TIMES, **kwargs) -> dict:
+    return run_scenario("strikes", fmu_dir, params=params, times=times, schedule=schedule,
                         **kwargs)
 
 
@@ -49,6 +52,51 @@ def test_strikes_reach_model_one_as_the_reference_has_them(fmu_dir):
     # Two strikes, not three: the ram brought 1/2 m (V1^2 + V2^2) less what it still had.
     assert got["W_ram"][-1] <= 0.5 * 50.0 * (V1 ** 2 + V2 ** 2)
     assert got["W_ram"][-1] > 0.5 * 50.0 * (V1 ** 2 + V2 ** 2) - 0.5 * 50.0 * V1 ** 2
+
+
+def test_a_cushion_on_a_free_rigid_pipe_gives_the_half_sine(fmu_dir):
+    """Model I, no friction, no plug: a ram of m through a cushion k on the pipe of mass M
+    pushes it with F = v0 sqrt(k mu) sin(omega t) for t <= pi / omega (mu = m M / (m + M),
+    omega = sqrt(k / mu)), then parts from it; M from the contract's section
+    S1 = pi ((R1 + h1)^2 - R1^2) and the defaults."""
+    m, k, v0 = 100.0, 1e6, 4.0
+    M = 7800.0 * math.pi * ((0.035 + 0.003) ** 2 - 0.035 ** 2) * 1.0
+    mu = m * M / (m + M)
+    omega = math.sqrt(k / mu)
+    times = [j * 1e-4 for j in range(301)]
+    got = _columns(_strikes(fmu_dir, {"tau2": 0.0, "ram_mass": m, "cushion_stiffness": k},
+                            {"0.0": [1, v0]}, times=times)["rows"])
+    t = np.array(times[1:])
+    exact = np.where(t <= math.pi / omega, v0 * math.sqrt(k * mu) * np.sin(omega * t), 0.0)
+    assert math.pi / omega < 0.02                        # the pulse ends inside the run
+    error = np.abs(got["F_head"] - exact).max() / (v0 * math.sqrt(k * mu))
+    print(f"half sine through the FMU: max |F_head - exact| / peak = {error:.1e}")
+    assert error <= 1e-9
+    # after parting, each body keeps its velocity of the elastic collision
+    assert got["v_pipe"][-1] == pytest.approx(2 * m * v0 / (m + M), rel=1e-12)
+    assert got["v_ram"][-1] == pytest.approx((m - M) * v0 / (m + M), rel=1e-12)
+
+
+def test_a_direct_strike_on_a_long_elastic_rod_converges_to_the_exponential(fmu_dir):
+    """Model III, a rigid ram of m striking a long free rod directly at v0: F_head =
+    Z1 v0 exp(-Z1 t / m) until the wave returns at 2 L1 / c1 (Z1 = S1 sqrt(E1 rho1)); the
+    FMU's error shrinks about in proportion to dx."""
+    m, v0, L1 = 2000.0, 5.0, 20.0
+    S1 = math.pi * ((0.035 + 0.003) ** 2 - 0.035 ** 2)
+    Z1, c1 = S1 * math.sqrt(1.95e11 * 7800.0), math.sqrt(1.95e11 / 7800.0)
+    times = [j * 1e-4 for j in range(int(0.9 * 2 * L1 / c1 / 1e-4) + 1)]
+    t = np.array(times[1:])
+    exact = Z1 * v0 * np.exp(-Z1 * t / m)
+    errors = []
+    for dx in (0.1, 0.05, 0.025):
+        params = {"elastic": True, "L1": L1, "L2": 0.0, "tau2": 0.0, "dx": dx,
+                  "ram_mass": m, "x_monitor": 0.0}
+        got = _columns(_strikes(fmu_dir, params, {"0.0": [1, v0]}, times=times)["rows"])
+        errors.append(np.abs(got["F_head"] - exact).max() / (Z1 * v0))
+    print("direct strike through the FMU, max |F_head - exact| / (Z1 v0) at dx = 0.1, 0.05, "
+          "0.025 m: " + ", ".join(f"{e:.2e}" for e in errors))
+    assert errors[0] < 2e-2
+    assert errors[1] < 0.6 * errors[0] and errors[2] < 0.6 * errors[1], errors
 
 
 def test_strikes_reach_the_elastic_model_as_the_core_takes_them(fmu_dir):
