@@ -25,10 +25,14 @@ the step's mean compression rate) less ``R`` is its loss, ``W_cushion``: 0 along
 line, ``(1 - e^2)`` of the work on the loading line. With the ram's kinetic energy in
 ``E_kinetic`` and ``R`` in ``E_strain``, ``W_input + W_ram = E_kinetic + E_strain + W_friction +
 W_cushion`` (a strike resets the cushion: what it still held counts as lost). Where the
-cushion opens within a step (its force would turn to a pull) the step's force is cut to 0, and
-the scheme's energy then takes back up to ``k h^2 dv^2 / 2`` (dv the closing velocity): its
-loss can fall that much at a separation (``1/2 m_cell dv^2`` for a direct strike, first order in
-dx; second order in the step for a cushion).
+cushion opens within a step (its force would turn to a pull), cutting the force to 0 would let
+the scheme take back up to ``k h^2 dv^2 / 2`` (dv the closing velocity), energy created at
+every separation. Instead the unloading line goes on for one more step, a pull of at most
+``(k / e^2) h |dv|`` (``m_cell |dv| / h`` for a direct strike, an impulse of first order in
+dx), and the force is cut to 0 a step later: there the loss grows by ``F F' / (2 k / e^2) >= 0``
+(both forces pulls), so ``W_cushion`` never decreases at a separation. Only a strike during
+that one step, which resets a cushion holding a negative ``R``, lowers it (by at most
+``k h^2 dv^2 / 2``).
 """
 from __future__ import annotations
 
@@ -64,8 +68,15 @@ def ram_step(q, dt, v_head_old, v_head, mass, k, k_unload, ram, acc, work_index,
     delta = ram[1] + dt * (v_new - v_head)
     ram[1] = delta
     ram[2] = max(ram[2], delta)
-    ram[3] = cushion_force(delta, ram[2], k, k_unload)
-    return q + ram[3]
+    law = cushion_force(delta, ram[2], k, k_unload)
+    if law == 0.0 and force > 0.0:
+        # The cushion opened within this step: its force acted over the whole step, and
+        # cutting it to 0 now would give back up to k_unload dt^2 dv^2 / 2. Continuing the
+        # unloading line for one more step (a pull of at most k_unload dt |dv|) keeps the
+        # ledger exact here, and the next step's cut then dissipates instead.
+        law = force + k_unload * dt * (v_new - v_head)
+    ram[3] = law
+    return q + law
 
 
 @jitable

@@ -43,9 +43,11 @@ class RodBody(NamedTuple):
                    p.get("ram_mass", 0.0), p["rho1"] * S1 * p["dx"])
 
     def cushion_allowance(self, strikes) -> float:
-        """How far below 0 the cushion's loss may fall [J]: the scheme takes back up to
-        ``1/2 m_cell dv^2`` at a separation (dv the closing velocity, at most twice the
-        strike's); four separations at that speed for every strike."""
+        """How far below 0 the cushion's loss may fall [J]: a separation never lowers it
+        (:mod:`pipeplug.elastic.head`), but a strike in the one step of pull after one resets
+        a cushion holding up to ``-k_u h^2 dv^2 / 2``, at most ``m_cell dv^2`` (the head's
+        stability bounds ``k_u h^2`` by ``2 m_cell``), dv the closing velocity, taken as at
+        most twice the strike's: ``m_cell (2 v)^2`` a strike, allowed twice."""
         return 4.0 * 0.5 * self.m_cell * sum((2.0 * v) ** 2 for _, v in strikes)
 
 
