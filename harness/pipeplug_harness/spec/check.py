@@ -69,6 +69,17 @@ def check_sections(raw: dict, sections: dict, nested=(), required=(), varied=())
 
 def value_of(where: str, value, spec: Key):
     """``value`` of the key ``spec`` at ``where``, checked and in SI."""
+    value = _typed(where, value, spec)
+    low = spec.lower
+    if low is not None and not (value > low if spec.strict else value >= low):
+        unit = f" {spec.unit}" if spec.unit not in ("", "1") else ""
+        raise UserError(key=where, value=value,
+                        allowed=f"{'>' if spec.strict else '>='} {low:g}{unit}")
+    return value
+
+
+def _typed(where: str, value, spec: Key):
+    """``value`` as the key's kind (numbers in SI)."""
     kind = spec.kind
     if kind == "number":
         if isinstance(value, str):

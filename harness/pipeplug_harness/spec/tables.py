@@ -42,12 +42,22 @@ class Key:
     plausible: tuple | None = None
     choices: tuple = ()
     meaning: str = ""
+    lower: float | None = None       #: hard lower bound (no file can allow past it)
+    strict: bool = False             #: the lower bound is excluded
 
 
 def _core(name: str, plausible: tuple, required: bool = False) -> Key:
     """A key that is a core parameter: its unit and meaning from the core's table."""
     p = _CORE[name]
-    return Key("number", p.unit, None, required, plausible, meaning=p.description)
+    return Key("number", p.unit, None, required, plausible, meaning=p.description,
+               lower=p.lower, strict=p.strict_lower)
+
+
+def _positive(unit: str, plausible: tuple, meaning: str, default=None, strict=True,
+              kind="number") -> Key:
+    """A key whose values are > 0 (``strict``) or >= 0."""
+    return Key(kind, unit, default, False, plausible, meaning=meaning, lower=0.0,
+               strict=strict)
 
 
 def blow_default(name: str):
@@ -79,16 +89,16 @@ SECTIONS: dict[str, dict[str, Key]] = {
     },
     "blows": {
         "amplitude": Key("number", "N", None, True, (-1e9, 1e9), meaning="force of every blow"),
-        "duration": Key("number", "s", None, True, (1e-7, 100.0), meaning="length of one blow"),
-        "period": Key("number", "s", None, False, (1e-4, 1e5),
-                      meaning="from one blow's start to the next's (or give rate; default: the "
-                              "Hammer's)"),
-        "rate": Key("number", "1/s", None, False, (1e-5, 1e4),
-                    meaning="blows per second, e.g. \"200 /min\" (instead of period)"),
-        "count": Key("integer", "1", blow_default("count"), False, (0, 1e6),
-                     meaning="number of blows; 0 = no end (to the stop time)"),
-        "start": Key("number", "s", blow_default("start"), False, (0.0, 1e5),
-                     meaning="when the first blow starts"),
+        "duration": Key("number", "s", None, True, (1e-7, 100.0), meaning="length of one blow",
+                         lower=0.0, strict=True),
+        "period": _positive("s", (1e-4, 1e5), "from one blow's start to the next's (or give "
+                                              "rate; default: the Hammer's)"),
+        "rate": _positive("1/s", (1e-5, 1e4), "blows per second, e.g. \"200 /min\" (instead "
+                                              "of period)"),
+        "count": _positive("1", (0, 1e6), "number of blows; 0 = no end (to the stop time)",
+                           blow_default("count"), strict=False, kind="integer"),
+        "start": _positive("s", (0.0, 1e5), "when the first blow starts (a run starts at 0)",
+                           blow_default("start"), strict=False),
     },
     "model": {
         "elastic": Key("auto", default="auto", meaning='model III; "auto": the paper\'s rule'),
@@ -99,30 +109,29 @@ SECTIONS: dict[str, dict[str, Key]] = {
         "x_monitor": _core("x_monitor", (0.0, 500.0)),
     },
     "output": {
-        "stop_time": Key("number", "s", None, False, (1e-6, 1e5), meaning="end of the run"),
-        "step": Key("number", "s", 1e-3, False, (1e-8, 1e3), meaning="communication step"),
+        "stop_time": _positive("s", (1e-6, 1e5), "end of the run"),
+        "step": _positive("s", (1e-8, 1e3), "communication step", 1e-3),
         "variables": Key("names", default=OUTPUT_NAMES[:4], choices=OUTPUT_NAMES,
                          meaning="outputs recorded"),
         "modes": Key("bool", default=False, meaning="sweeps: a column of the contact modes"),
     },
     "drive": {
-        "target": Key("number", "m", None, False, (1e-4, 500.0), meaning="depth to reach"),
-        "refusal_set": Key("number", "m", None, False, (0.0, 1.0),
-                           meaning="refusal: a set per blow below this"),
-        "refusal_count": Key("integer", "1", None, False, (1, 1e4),
+        "target": _positive("m", (1e-4, 500.0), "depth to reach"),
+        "refusal_set": _positive("m", (0.0, 1.0), "refusal: a set per blow below this",
+                                 strict=False),
+        "refusal_count": Key("integer", "1", None, False, (1, 1e4), lower=1,
                              meaning="refusal: this many blows advance less than ..."),
-        "refusal_length": Key("number", "m", None, False, (0.0, 10.0),
-                              meaning="... this length in all"),
-        "max_blows": Key("integer", "1", 100_000, False, (1, 1e7), meaning="stop after"),
-        "step": Key("number", "s", None, False, (1e-8, 10.0),
-                    meaning="communication step while a blow acts"),
+        "refusal_length": _positive("m", (0.0, 10.0), "... this length in all", strict=False),
+        "max_blows": Key("integer", "1", 100_000, False, (1, 1e7), lower=1, meaning="stop after"),
+        "step": _positive("s", (1e-8, 10.0), "communication step while a blow acts"),
     },
     "sweep": {
         "kind": Key("choice", default="blow", choices=("blow", "drive"),
                     meaning="a case is a single blow or a whole drive"),
         "seed": Key("integer", "1", 0, False, None, meaning="random sample's seed"),
-        "samples": Key("integer", "1", None, False, (1, 1e9), meaning="random sample's size"),
-        "chunk": Key("integer", "1", None, False, (1, 1e7), meaning="cases per task"),
+        "samples": Key("integer", "1", None, False, (1, 1e9), lower=1,
+                       meaning="random sample's size"),
+        "chunk": Key("integer", "1", None, False, (1, 1e7), lower=1, meaning="cases per task"),
         "report": Key("choice", default="none", choices=("none", "domains", "drivability"),
                       meaning="what is reported after the run"),
     },
