@@ -19,7 +19,7 @@ from .toml import read_toml
 
 __all__ = ["AUTO_RATIO", "elastic_choice", "read_toml", "checked", "read_file", "blow_train", "period_of", "value_of",
            "FileKind", "Key", "SECTIONS", "SCENE", "DRIVE", "SWEEP_BLOW", "SWEEP_DRIVE",
-           "SWEEP_KINDS", "check_plausible"]
+           "SWEEP_KINDS", "check_plausible", "plausibility"]
 
 
 def checked(raw: dict, kind: FileKind, varied=()) -> dict:

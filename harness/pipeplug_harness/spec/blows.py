@@ -39,6 +39,9 @@ def blow_train(blows: dict) -> BlowTrain:
     values = {k: blows[k] for k in ("amplitude", "duration", "count", "start")
               if blows.get(k) is not None}
     values["period"] = period_of(blows)
+    if blows.get("period") is None and blows.get("rate") is None and values.get("count", 1) == 1:
+        # one blow has no period: the default must not refuse a blow longer than it
+        values["period"] = max(values["period"], values.get("duration", 0.0))
     try:
         train = check(values)
     except BlowTrainError as exc:
