@@ -11,7 +11,7 @@ A7: t3 = t4 = t5 on the I/II boundary), with grazing (velocity and acceleration 
 together), and for the elastic model at Courant 1 and below, with a soft plug and a blow much
 shorter than the wave round trip.
 
-References (all independent of the solvers, see :mod:`pipeplug_harness.hardcases.refs`):
+References (all independent of the solvers, see :mod:`pipeplug_harness.stability.refs`):
 ``"closed form"`` (model I, pulse by pulse from rest, pulls mirrored), ``"hand"`` (one body
 under blows that arrive while it moves), ``"d'Alembert"`` (free elastic pipe), and, for loads
 with no closed form, ``"exact solver"``: the exact event-driven solver as the reference of the
@@ -24,17 +24,18 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from pipeplug_harness.load import Load
+from pipeplug_harness.paper import Q0, RIGID_PARAMETERS, T0
 from pipeplug_references import closed_form as cf
 
 __all__ = ["HardCase", "CATALOGUE", "QUICK", "Q0", "T0"]
 
-Q0, T0 = 23000.0, 0.05                   # the paper's blow: amplitude [N], duration [s]
 BASE = cf.Case()                         # the paper's parameters (tau1 = 0, tau2 = 0.01 MPa)
 TAU_STAR, GAMMA = BASE.tau_star, BASE.gamma
 RHO2_EQUAL_MASS = BASE.rho2 * BASE.M1 / BASE.M2   # plug density giving M2 = M1 [kg/m3]
 C2_PAPER = math.sqrt(6.0e8 / 1800.0)              # the paper's plug wave speed [m/s]
 F1_20K = BASE.P1 * BASE.L1 * 2.0e4                # outer friction limit at tau1 = 0.02 MPa [N]
-_RIGID = ("L1", "L2", "R1", "h1", "rho1", "rho2", "tau1", "tau2")
+
 
 
 @dataclass(frozen=True)
@@ -71,13 +72,18 @@ class HardCase:
         edges = {e for s, d, _ in self.pulses for e in (s, s + d) if 0.0 < e < self.t_end}
         return np.array(sorted(grid | edges))
 
+    @property
+    def load_history(self) -> Load:
+        """The load of the pulses."""
+        return Load.from_pulses(self.pulses)
+
     def load(self, t: float) -> float:
         """Struck-end force [N] at time ``t`` [s] (right-continuous)."""
-        return float(sum(a for s, d, a in self.pulses if s <= t < s + d))
+        return self.load_history.at(float(t))
 
     def rigid_case(self, amplitude: float = Q0, duration: float = T0) -> cf.Case:
         """The closed-form case of one pulse on these parameters."""
-        values = {k: self.params[k] for k in _RIGID if k in self.params}
+        values = {k: self.params[k] for k in RIGID_PARAMETERS if k in self.params}
         return replace(BASE, **values, Q0=abs(amplitude), t0=duration)
 
 

@@ -1,6 +1,6 @@
 """``pipeplug stability``: the hard cases of dry-friction integrators, case by solver.
 
-Runs every case of :data:`pipeplug_harness.hardcases.cases.CATALOGUE` on each solver it
+Runs every case of :data:`pipeplug_harness.stability.cases.CATALOGUE` on each solver it
 applies to (the core's exact, fd and elastic models), compares the outputs with the case's
 exact reference, checks that they stay finite and that the energy balances, and continues
 each run for a long time after the motion has stopped to measure any creep. With ``--fmu``
@@ -16,12 +16,13 @@ the motion never stops).
 from __future__ import annotations
 
 import argparse
-import csv
 import math
 import time
-from pathlib import Path
 
 import numpy as np
+
+from pipeplug_harness import io
+from pipeplug_harness.errors import UserError
 
 from .cases import CATALOGUE, QUICK
 from .runs import build_for, errors, measure, reference_for, run_case, tolerance
@@ -38,13 +39,24 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help="steps of the long run after the motion stopped "
                              "(default 1000000; 1000 with --quick)")
     parser.add_argument("--fmu", default=None,
-                        help="also run the rigid cases through this FMU with fmpy")
+                        help="also run the rigid cases through this FMU with fmpy (\"cached\": "
+                             "the build of this installation)")
 
 
 def main(args: argparse.Namespace) -> int:
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
     long_steps = args.long_steps or (1000 if args.quick else 1_000_000)
+    if long_steps < 1:
+        raise UserError(key="--long-steps", value=args.long_steps, allowed=">= 1")
+    args.limits.check("steps", long_steps, f"--long-steps {long_steps}")
+    fmu = None
+    if args.fmu:
+        from pipeplug_harness.fmus import find_fmu
+        fmu = find_fmu(None if args.fmu == "cached" else args.fmu)
+    with io.OutputFolder(args.out, "stability") as out:
+        return _run(args, out, long_steps, fmu)
+
+
+def _run(args, out, long_steps: int, fmu) -> int:
     cases = [c for c in CATALOGUE if not args.quick or c.name in QUICK]
     rows, start = [], time.perf_counter()
     for case in cases:
@@ -53,11 +65,12 @@ def main(args: argparse.Namespace) -> int:
             exact_run = run_case(case, build_for(case, "exact"))
         for solver in case.solvers:
             rows.append(measure(case, solver, long_steps, exact_run))
-        if args.fmu:
-            rows += _fmu_rows(case, args.fmu)
+        if fmu is not None:
+            rows += _fmu_rows(case, fmu)
     table = markdown(rows)
-    _write_csv(out / "stability.csv", rows)
-    (out / "stability.md").write_text(table + "\n")
+    io.write_records(out.file("stability.csv"), rows, _COLUMNS,
+                     {"drift_v": "m/s", "drift_u": "m"})
+    out.file("stability.md").write_text(table + "\n")
     failed = [r for r in rows if not r["ok"]]
     print(table)
     print(f"\n{len(rows) - len(failed)} passed, {len(failed)} failed "
@@ -69,16 +82,16 @@ def main(args: argparse.Namespace) -> int:
 
 def _fmu_rows(case, fmu: str) -> list[dict]:
     """The rigid solvers of ``case`` through the FMU with fmpy (no long run)."""
-    from pipeplug_harness.fmu_run import Pulse, Run, run_fmu
+    from pipeplug_harness.load import Load
+    from pipeplug_harness.session import simulate
 
     rows = []
     for solver in ("exact", "fd"):
         if solver not in case.solvers or case.growth:
             continue
         values = {**case.params, "solver": solver, "dt": case.fd_dt}
-        run = Run(params=values, pulses=[Pulse(*p) for p in case.pulses], step=case.step,
-                  stop_time=case.t_end)
-        result = run_fmu(run, fmu)[1:]            # the first row is t = 0
+        result = simulate(fmu, values, Load.from_pulses(case.pulses), case.step,
+                          case.t_end)[1:]         # the first row is t = 0
         out = {name: np.asarray(result[name], dtype=float) for name in result.dtype.names}
         ref = reference_for(case, out["time"], None)
         err_v, err_u = errors(out, ref, case) if ref is not None else (math.nan, math.nan)
@@ -94,16 +107,15 @@ def _fmu_rows(case, fmu: str) -> list[dict]:
 
 def markdown(rows: list[dict]) -> str:
     """The table in markdown."""
-    lines = ["| case | solver | reference | err v | err u | tolerance | finite | energy "
-             "| drift v (m/s) | drift u (m) | ok |", "|" + "---|" * 11]
+    lines = []
     for r in rows:
         tol = (_num(r["tol_v"]) if r["tol_v"] == r["tol_u"] or math.isnan(r["tol_u"])
                else f"{_num(r['tol_v'])} / {_num(r['tol_u'])}")
-        lines.append(f"| {r['case']} | {r['solver']} | {r['reference']} | {_num(r['err_v'])} "
-                     f"| {_num(r['err_u'])} | {tol} | {'yes' if r['finite'] else 'NO'} "
-                     f"| {_num(r['energy'])} | {_num(r['drift_v'])} | {_num(r['drift_u'])} "
-                     f"| {'yes' if r['ok'] else 'NO'} |")
-    return "\n".join(lines)
+        lines.append([r["case"], r["solver"], r["reference"], _num(r["err_v"]), _num(r["err_u"]),
+                      tol, "yes" if r["finite"] else "NO", _num(r["energy"]),
+                      _num(r["drift_v"]), _num(r["drift_u"]), "yes" if r["ok"] else "NO"])
+    return io.markdown_table(["case", "solver", "reference", "err v", "err u", "tolerance",
+                              "finite", "energy", "drift v (m/s)", "drift u (m)", "ok"], lines)
 
 
 def _num(x: float) -> str:
@@ -111,12 +123,3 @@ def _num(x: float) -> str:
     if x is None or (isinstance(x, float) and math.isnan(x)):
         return "-"
     return "0" if x == 0 else f"{x:.1e}"
-
-
-def _write_csv(path: Path, rows: list[dict]) -> None:
-    with open(path, "w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=list(_COLUMNS))
-        writer.writeheader()
-        for r in rows:
-            writer.writerow({k: (repr(float(r[k])) if isinstance(r[k], float) else r[k])
-                             for k in _COLUMNS})

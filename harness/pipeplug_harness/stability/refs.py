@@ -14,12 +14,13 @@ import math
 
 import numpy as np
 
+from pipeplug_harness.paper import SYMBOLS
 from pipeplug_references import closed_form as cf
 
 __all__ = ["closed_form_sequence", "single_body_train", "free_rod_motion",
            "monitored_free_rod"]
 
-_PAIRS = (("v_pipe", "V1"), ("v_plug", "V2"), ("u_pipe", "U1"), ("u_plug", "U2"))
+_PAIRS = tuple(SYMBOLS.items())
 
 
 def closed_form_sequence(case, times) -> dict:

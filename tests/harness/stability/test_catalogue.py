@@ -1,6 +1,6 @@
 """Every hard case of the catalogue on every solver it applies to, against its exact reference.
 
-The catalogue (:mod:`pipeplug_harness.hardcases.cases`) lists the cases and their independent
+The catalogue (:mod:`pipeplug_harness.stability.cases`) lists the cases and their independent
 references: the closed form of model I (pulse by pulse from rest, pulls mirrored), a hand
 derivation for one body under a train of blows, d'Alembert for the free elastic pipe, and the
 exact solver as the limit of fd and elastic for loads with no closed form. Each row must stay
@@ -12,8 +12,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pipeplug_harness.hardcases.cases import CATALOGUE
-from pipeplug_harness.hardcases.runs import (
+from pipeplug_harness.stability.cases import CATALOGUE
+from pipeplug_harness.stability.runs import (
     build_for,
     energy_residual,
     errors,
