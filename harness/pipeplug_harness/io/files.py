@@ -42,6 +42,8 @@ def header(names, units=None) -> list[str]:
 
 def _text(value) -> str:
     """A value at full precision: floats round-trip, booleans and integers as integers."""
+    if value is None:
+        return ""
     if isinstance(value, str):
         return value
     if isinstance(value, (bool, int)) or getattr(value, "dtype", None) is not None and \
