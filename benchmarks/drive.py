@@ -2,7 +2,7 @@
 
 Usage::
 
-    python -m pipeplug_harness.bench.drive [--fmu dist/PipePlug.fmu] [--blows 1000] [--repeat 3]
+    python -m benchmarks.drive [--fmu dist/PipePlug.fmu] [--blows 1000] [--repeat 3]
                                            [--only rigid elastic]
 
 Both drives are the shipped scene ``scenes/drives/casing_24in_17m.toml`` (a 24-in casing, 1 ms
@@ -31,18 +31,18 @@ from collections import Counter
 from pathlib import Path
 
 from pipeplug.elastic.grid import build_grid
-from pipeplug_harness.drive.file import DRIVE_SECTIONS, DriveSpec, drive_spec
+from pipeplug_harness import spec as files
+from pipeplug_harness.drive.file import DriveSpec, drive_spec
 from pipeplug_harness.drive.run import run_drive
-from pipeplug_harness.fmu_run import DEFAULT_FMU
-from pipeplug_harness.scenes.file import read_sections
+from pipeplug_harness.fmus import find_fmu
 
-SCENE = Path(__file__).resolve().parents[3] / "scenes" / "drives" / "casing_24in_17m.toml"
+SCENE = Path(__file__).resolve().parents[1] / "scenes" / "drives" / "casing_24in_17m.toml"
 TARGETS = {"rigid": 10.0, "elastic": 60.0}        #: seconds for 1,000 blows
 
 
 def spec_for(case: str, blows: int) -> DriveSpec:
     """The benchmark drive ``case`` ("rigid" or "elastic") of ``blows`` blows."""
-    values = read_sections(SCENE, DRIVE_SECTIONS, nested=("blows", "drive"))
+    values = files.read_file(SCENE, files.DRIVE)
     values["drive"].update(max_blows=blows, refusal_set=0.0)
     if case == "rigid":
         values["elastic"] = False
@@ -82,11 +82,13 @@ def report(case: str, seconds: float, result) -> str:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--fmu", type=Path, default=DEFAULT_FMU, help="the FMU (%(default)s)")
+    parser.add_argument("--fmu", type=Path, help="the FMU (default: the build of this "
+                                                 "installation, made once into the cache)")
     parser.add_argument("--blows", type=int, default=1000, help="blows per drive (%(default)s)")
     parser.add_argument("--repeat", type=int, default=1, help="timed runs per case")
     parser.add_argument("--only", nargs="+", choices=tuple(TARGETS), default=list(TARGETS))
     args = parser.parse_args(argv)
+    args.fmu = find_fmu(args.fmu)
     for case in args.only:
         run_drive(spec_for(case, 2), args.fmu)                 # warm-up
         times = []

@@ -2,7 +2,7 @@
 
 Usage::
 
-    python -m pipeplug_harness.bench.fmu_path [--rounds 5]
+    python -m benchmarks.fmu_path [--repeat 5]
 
 Builds ``PipePlug.fmu`` twice from the installed sources: as shipped (the slave builds its rigid
 models with ``compiled=False``) and with that switch turned to ``compiled=True`` (numba, cached on
@@ -31,12 +31,13 @@ SWITCH = "core.build_model(params, options, compiled=False)"
 _RUN = """
 import json, sys, time
 start = time.perf_counter()
-from pipeplug_harness.fmu_run import Pulse, Run, run_fmu
+from pipeplug_harness.load import Load
+from pipeplug_harness.session import simulate
 from pipeplug_references.closed_form import figure_cases
 imported = time.perf_counter()
 for case in figure_cases()["3"]:
-    run_fmu(Run(params={"tau1": case.tau1, "tau2": case.tau2},
-                pulses=[Pulse(0.0, case.t0, case.Q0)], step=5e-4, stop_time=0.3), sys.argv[1])
+    simulate(sys.argv[1], {"tau1": case.tau1, "tau2": case.tau2},
+             Load.from_pulses([(0.0, case.t0, case.Q0)]), 5e-4, 0.3)
 print(json.dumps({"runs": time.perf_counter() - imported}))
 """
 
@@ -77,18 +78,18 @@ def run_once(fmu: Path) -> tuple[float, float]:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--rounds", type=int, default=5, help="fresh processes per FMU")
+    parser.add_argument("--repeat", type=int, default=5, help="fresh processes per FMU")
     args = parser.parse_args(argv)
     with tempfile.TemporaryDirectory(prefix="pipeplug_fmu_path_") as tmp:
         fmus = build_both(Path(tmp))
         for fmu in fmus.values():
             run_once(fmu)                                    # warm the caches
         times = {label: [] for label in fmus}
-        for _ in range(args.rounds):                         # interleaved
+        for _ in range(args.repeat):                         # interleaved
             for label, fmu in fmus.items():
                 times[label].append(run_once(fmu))
     print(f"Fig. 3 case (three FMU runs of 600 steps), fresh process, warm cache, "
-          f"{args.rounds} rounds:")
+          f"{args.repeat} rounds:")
     for label, rows in times.items():
         runs, walls = [r for r, _ in rows], [w for _, w in rows]
         print(f"  {label:24s} runs {min(runs):6.3f} s (median {statistics.median(runs):6.3f}); "

@@ -2,7 +2,7 @@
 
 Usage::
 
-    python -m pipeplug_harness.bench.fmu [--fmu dist/PipePlug.fmu] [--steps 2000] [--rounds 7]
+    python -m benchmarks.fmu [--fmu dist/PipePlug.fmu] [--steps 2000] [--repeat 7]
 
 Both FMUs are driven in one process through FMPy's raw ``FMU2Slave`` API, one communication step
 being ``setReal(Q)``, ``doStep``, ``getReal`` of ``v_pipe v_plug u_pipe u_plug``. The baseline is
@@ -16,14 +16,12 @@ per step and their ratio (target for the exact rigid model: <= 1.5).
 from __future__ import annotations
 
 import argparse
-import subprocess
-import sys
 import tempfile
 import time
 import uuid
 from pathlib import Path
 
-from pipeplug_harness.fmu_run import DEFAULT_FMU
+from pipeplug_harness.fmus import find_fmu
 
 OUTPUTS = ("v_pipe", "v_plug", "u_pipe", "u_plug")
 
@@ -117,18 +115,16 @@ def measure(fmu: Path, steps: int, rounds: int, params: dict,
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--fmu", type=Path, default=DEFAULT_FMU,
-                        help="the FMU to measure (built if missing; default: %(default)s)")
+    parser.add_argument("--fmu", type=Path, default=None,
+                        help="the FMU to measure (default: the build of this installation)")
     parser.add_argument("--steps", type=int, default=2000, help="steps per round (h = 0.1 ms)")
-    parser.add_argument("--rounds", type=int, default=7, help="rounds per FMU")
+    parser.add_argument("--repeat", type=int, default=7, help="rounds per FMU")
     parser.add_argument("--tau1", type=float, default=None, help="outer limit stress [Pa]")
     parser.add_argument("--tau2", type=float, default=None, help="inner limit stress [Pa]")
     args = parser.parse_args(argv)
-    if not args.fmu.exists():
-        subprocess.run([sys.executable, "-m", "pipeplug_fmu", "build", "--dest", str(args.fmu)],
-                       check=True)
+    args.fmu = find_fmu(args.fmu)
     params = {k: v for k, v in (("tau1", args.tau1), ("tau2", args.tau2)) if v is not None}
-    t_model, t_base = measure(args.fmu, args.steps, args.rounds, params)
+    t_model, t_base = measure(args.fmu, args.steps, args.repeat, params)
     label = ", ".join(f"{k}={v:g}" for k, v in params.items()) or "defaults"
     rows = ((f"PipePlug (exact rigid, {label})", t_model), ("do-nothing pythonfmu baseline", t_base))
     width = max(len(name) for name, _ in rows) + 1

@@ -3,7 +3,7 @@ single blows, and the time projected for a cluster.
 
 Usage::
 
-    python -m pipeplug_harness.bench.sweep [--cases 4000000] [--million 1000000] [--chunk 100000]
+    python -m benchmarks.sweep [--cases 4000000] [--million 1000000] [--chunk 100000]
                                            [--repeat 6] [--slow-cases 40000] [--slow-chunk 2000]
 
 The cases are single blows of model I (the paper's base case, 23 kN for 50 ms, run from rest
@@ -81,11 +81,12 @@ from typing import NamedTuple
 
 import pyarrow as pa
 
+from pipeplug_harness.io import parquet_bytes
 from pipeplug_harness.sweep.cluster import dask_client
 from pipeplug_harness.sweep.engine import run_campaign
 from pipeplug_harness.sweep.file import sweep_spec
 from pipeplug_harness.sweep.runners import BATCH_CHUNK
-from pipeplug_harness.sweep.store import ChunkFiles, parquet_bytes
+from pipeplug_harness.sweep.store import ChunkFiles
 
 _PLANE = {"tau1": {"dist": "uniform", "low": 0.0, "high": 1.2e5},
           "tau2": {"dist": "uniform", "low": 0.0, "high": 8.0e4}}
@@ -101,7 +102,8 @@ def blow_sweep(cases: int, chunk: int, seed: int = 1, mix: str = "batch"):
     """The benchmark's sweep: ``cases`` single blows over the Fig. 2 plane."""
     spec = sweep_spec(f"bench-{mix}-{seed}", {
         "sweep": {"kind": "blow", "seed": seed, "samples": cases, "chunk": chunk},
-        "random": _PLANE, "soil": {"contact_growth": False},
+        "random": _PLANE, "pipe": {"L1": 1.0}, "plug": {"L2": 1.0},
+        "soil": {"contact_growth": False},
         "model": {"elastic": False, "solver": "exact"},
         "blows": {"amplitude": 23e3, "duration": 0.05}, "output": MIXES[mix]})
     assert spec.runner == ("batch" if mix == "batch" else "case"), spec.runner

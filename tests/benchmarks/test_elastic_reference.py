@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from benchmarks.elastic_reference import run_numpy, run_numpy_full
 from pipeplug import build_model
-from pipeplug_harness.bench.elastic_reference import run_numpy, run_numpy_full
 
 FIELDS = ("v1", "N1", "v2", "N2", "u1", "u2", "acc")
 

@@ -1,6 +1,6 @@
 """Independent codings of the elastic scheme, for the benchmarks only (never imported by the core).
 
-Used by :mod:`pipeplug_harness.bench.elastic` to time the package's kernels against
+Used by :mod:`benchmarks.elastic` to time the package's kernels against
 
 (a) the same scheme as numpy operations on whole arrays, one time step at a time:
     :func:`run_numpy` for pipe and plug (the Fig. 7 scene), :func:`run_numpy_full` for pipe,

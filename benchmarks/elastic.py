@@ -1,6 +1,6 @@
 """Benchmark of the elastic kernel, and the paper's Fig. 7 claim recomputed.
 
-Run ``python -m pipeplug_harness.bench.elastic`` (``--fine`` adds two finer grids to the
+Run ``python -m benchmarks.elastic`` (``--fine`` adds two finer grids to the
 convergence table, ``--repeat R`` sets the number of timed repetitions). It measures, for the
 Fig. 7 scene (0.08 s, dx = 1 cm, Courant 1: 40,000 steps of two 100-cell rods):
 
@@ -103,7 +103,7 @@ def disagreement(a, b) -> float:
 def timings(repeat: int = 5, with_c: bool = True) -> dict:
     """All timings and agreement figures (see the module docstring)."""
     t = time.perf_counter()
-    import pipeplug.elastic  # noqa: F401  (the import itself is measured)
+    import pipeplug.elastic  (the import itself is measured)
     res = {"import_in_process": time.perf_counter() - t}
     first = _fresh_model()
     res["first_run"] = run_arrays(first._kernel, first)  # compile or cache load + one run

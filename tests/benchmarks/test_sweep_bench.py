@@ -4,7 +4,7 @@ import math
 
 import pytest
 
-from pipeplug_harness.bench.sweep import _projected, blow_sweep, w_max
+from benchmarks.sweep import _projected, blow_sweep, w_max
 
 
 def test_the_mixes_take_their_paths():

@@ -1,6 +1,6 @@
 """Benchmark of the elastic model without numba against the numpy reference of its scheme.
 
-Run ``python -m pipeplug_harness.bench.elastic_numpy`` (``--repeat R`` timed rounds). Two
+Run ``python -m benchmarks.elastic_numpy`` (``--repeat R`` timed rounds). Two
 scenes of 0.08 s, one 23 kN blow of 50 ms, dx = 1 cm, Courant 1 (40,000 internal steps):
 
 * Fig. 7: pipe and plug of 100 cells each, plug friction only (the paper's scene);

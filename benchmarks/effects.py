@@ -1,6 +1,6 @@
 """Benchmark: the cost of a scene follows the effects it enables.
 
-Run ``python -m pipeplug_harness.bench.effects``. On the Fig. 7 scene (one 23 kN blow of
+Run ``python -m benchmarks.effects``. On the Fig. 7 scene (one 23 kN blow of
 50 ms, 0.08 s simulated, dx = 1 cm, Courant 1, communication step 0.1 ms) it times, in one
 run and in the core (no FMU overhead), the model each variant builds:
 
