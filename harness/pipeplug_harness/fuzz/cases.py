@@ -32,13 +32,14 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
+from pipeplug_harness import paper
 from pipeplug_harness.load import Load
 
 __all__ = ["Case", "Plan", "generate", "edges_of", "load_at", "loads_on", "host_calls", "calls_of",
            "case_to_json", "case_from_json", "RIGID_PARAMETERS", "GRIDS"]
 
 #: the parameters of the rigid models (the reference's names, the contract's names)
-RIGID_PARAMETERS = ("L1", "L2", "R1", "h1", "rho1", "rho2", "tau1", "tau2")
+RIGID_PARAMETERS = paper.RIGID_PARAMETERS
 #: the communication grids every case is run on
 GRIDS = ("coarse", "fine", "irregular")
 #: pipe geometry and density (the contract's defaults; the fuzz varies L1 only)

@@ -19,6 +19,7 @@ import numpy as np
 
 from pipeplug.params import Params
 from pipeplug_harness import io
+from pipeplug_harness.paper import RIGID_PARAMETERS
 from pipeplug_references import closed_form as cf
 
 __all__ = ["SEQUENCES", "classify", "report", "plot_domains"]
@@ -37,7 +38,7 @@ _NAMES = ("I", "II", "III", "IV", "V")
 def _case(spec, tau1: float, tau2: float) -> cf.Case:
     """The closed form's case of a point: the sweep's base pipe, plug and blow."""
     base, blows = spec.base, spec.base["blows"]
-    fields = ("L1", "L2", "R1", "h1", "rho1", "rho2")
+    fields = [k for k in RIGID_PARAMETERS if not k.startswith("tau")]
     given = {k: base[k] if base.get(k) is not None else getattr(Params(), k) for k in fields}
     return cf.Case(**given, tau1=tau1, tau2=tau2, Q0=blows["amplitude"], t0=blows["duration"])
 
