@@ -32,7 +32,8 @@ def _load(tmp_path, sections):
     ({"blows": {"amplitude": -2.0e4}}, r"amplitude = -20000.0 N; allowed: > 0"),
     ({"blows": {"amplitude": "nan N"}}, r"amplitude = 'nan N'; allowed: a finite quantity"),
     ({"soil": {"tau1": 2e8}}, r'tau1 = 200000000.0 Pa is outside .*allow = \["tau1"\]'),
-    # a traceback before (AttributeError from setString): now run as the FMU takes it
+    ({"blows": {"amplitude": float("nan")}}, r"amplitude = nan; allowed: a finite number"),
+    ({"blows": {"duration": 0.0}, "drive": {"step": 1e-3}}, r"duration = 0.0; allowed: > 0 s"),
 ])
 def test_unknown_or_bad_values_name_the_allowed_ones(tmp_path, sections, match):
     with pytest.raises(UserError, match=match):
