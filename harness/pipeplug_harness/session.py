@@ -59,6 +59,9 @@ def unpacked(fmu) -> str:
             raise UserError("a folder without modelDescription.xml: not an unpacked FMU",
                             file=path)
         return str(path.resolve())
+    if not path.is_file():
+        raise UserError("no such FMU file" if not path.exists() else "is not a regular file",
+                        file=path)
     try:
         digest = hashlib.sha256(path.read_bytes()).hexdigest()
     except OSError as exc:

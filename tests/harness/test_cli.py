@@ -51,6 +51,10 @@ def test_version(tmp_path):
     (("stability", "--long-steps", "-1"), ["--long-steps = -1; allowed: >= 1"]),
     (("validate", "--step", "0"), ["--step = 0.0; allowed: > 0 s"]),
     (("nosuch",), ["invalid choice: 'nosuch'"]),
+    (("scene", "/dev/zero"), ["/dev/zero: is not a regular file"]),          # never read
+    (("fuzz", "--replay", "/dev/zero"), ["not a fuzz case file"]),
+    (("fuzz", "--seed", "-1"), ["--seed = -1; allowed: >= 0"]),
+    (("validate", "--random", "100000000"), ["--limit memory="]),
 ])
 def test_every_mistake_is_one_line_with_exit_code_2(tmp_path, args, words):
     (tmp_path / "s.toml").write_text(SCENE)

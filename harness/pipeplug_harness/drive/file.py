@@ -37,11 +37,10 @@ from pathlib import Path
 from pipeplug_harness import spec as files
 from pipeplug_harness.errors import UserError
 from pipeplug_harness.limits import Limits
+from pipeplug_harness.session import split_start_values
 
 __all__ = ["DriveSpec", "DEFAULT_REFUSAL", "GRID_CELLS", "load_drive", "drive_spec",
            "check_with_core", "grid_for"]
-
-_OPTION_NAMES = ("elastic", "contact_growth", "solver")
 
 #: The default refusal of pile-driving practice: 10 blows per 25 mm.
 DEFAULT_REFUSAL = (10, 0.025)
@@ -234,8 +233,7 @@ def check_with_core(start_values: dict):
     """
     from pipeplug import build_model
     from pipeplug.options import Options
-    options = Options.from_mapping({k: start_values[k] for k in _OPTION_NAMES
-                                    if k in start_values})
+    options = Options.from_mapping(split_start_values(start_values)[1])
     params = _params(start_values)
     build_model(params, options)
     return params
@@ -244,5 +242,4 @@ def check_with_core(start_values: dict):
 def _params(start_values: dict):
     """The core's Params from start values (options left out), not yet validated."""
     from pipeplug.params import Params
-    return Params.from_mapping({k: v for k, v in start_values.items()
-                                if k not in _OPTION_NAMES})
+    return Params.from_mapping(split_start_values(start_values)[0])

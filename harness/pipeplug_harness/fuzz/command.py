@@ -67,7 +67,7 @@ def main(args: argparse.Namespace) -> int:
     unknown = [p for p in paths if p not in CORE_PATHS]
     if unknown or not paths:
         raise UserError(key="--paths", value=args.paths, allowed=", ".join(CORE_PATHS))
-    for flag in ("cases", "reference_every", "fmu_every", "fd_every", "start", "workers"):
+    for flag in ("cases", "reference_every", "fmu_every", "fd_every", "start", "workers", "seed"):
         value = getattr(args, flag)
         if value is not None and value < (1 if flag in ("cases", "workers") else 0):
             raise UserError(key=f"--{flag.replace('_', '-')}", value=value,

@@ -132,12 +132,15 @@ def _plain(value):
 def load_failure(path: str | Path) -> tuple[Case, dict]:
     """The case of a file written by :func:`save_failure` (or a bare case file), and the
     file's data."""
+    path = Path(path)
+    if not path.is_file() or path.stat().st_size > 2 ** 26:
+        raise UserError("not a fuzz case file (a regular file of at most 64 MB)", file=path)
     try:
-        data = json.loads(Path(path).read_text())
+        data = json.loads(path.read_text())
         case = data.get("case", data)
         return (elastic_from_json(case) if case.get("kind") == "elastic"
                 else case_from_json(case)), data
-    except (OSError, ValueError, TypeError, KeyError, AttributeError) as exc:
+    except (OSError, ValueError, TypeError, KeyError, AttributeError, RecursionError) as exc:
         raise UserError(f"not a fuzz case file: {type(exc).__name__}: {exc}", file=path) \
             from None
 

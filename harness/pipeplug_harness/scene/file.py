@@ -31,6 +31,7 @@ from pipeplug_harness import spec
 from pipeplug_harness.errors import UserError
 from pipeplug_harness.limits import Limits
 from pipeplug_harness.load import Load
+from pipeplug_harness.session import split_start_values
 
 __all__ = ["Scene", "load_scene", "scene_of", "AFTER_BLOWS"]
 
@@ -98,8 +99,7 @@ def _bound_elastic(start_values: dict, stop: float, limits: Limits) -> None:
     """Refuse an elastic run whose cells x internal steps pass the work limit."""
     from pipeplug.params import ParameterError, Params
     try:
-        p = Params.from_mapping({k: v for k, v in start_values.items()
-                                 if k not in ("elastic", "solver", "contact_growth")})
+        p = Params.from_mapping(split_start_values(start_values)[0])
     except ParameterError as exc:
         raise UserError(str(exc)) from None
     if not (p.dx > 0.0 and p.E1 > 0.0 and p.rho1 > 0.0 and p.courant > 0.0):

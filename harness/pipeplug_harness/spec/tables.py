@@ -128,7 +128,7 @@ SECTIONS: dict[str, dict[str, Key]] = {
     "sweep": {
         "kind": Key("choice", default="blow", choices=("blow", "drive"),
                     meaning="a case is a single blow or a whole drive"),
-        "seed": Key("integer", "1", 0, False, None, meaning="random sample's seed"),
+        "seed": Key("integer", "1", 0, False, None, meaning="random sample's seed", lower=0),
         "samples": Key("integer", "1", None, False, (1, 1e9), lower=1,
                        meaning="random sample's size"),
         "chunk": Key("integer", "1", None, False, (1, 1e7), lower=1, meaning="cases per task"),

@@ -11,7 +11,10 @@ else:                                   # pragma: no cover - Python 3.10
 
 from pipeplug_harness.errors import UserError
 
-__all__ = ["read_toml"]
+__all__ = ["read_toml", "MAX_BYTES"]
+
+#: the largest file read [bytes]: a scene, drive or sweep file is a few kB
+MAX_BYTES = 16 * 2 ** 20
 
 
 def read_toml(path) -> dict:
@@ -25,6 +28,11 @@ def read_toml(path) -> dict:
     """
     path = Path(path)
     try:
+        if path.exists() and not path.is_dir() and not path.is_file():
+            raise UserError("is not a regular file", file=path)
+        if path.is_file() and path.stat().st_size > MAX_BYTES:
+            raise UserError(f"is larger than {MAX_BYTES} bytes: not a scene, drive or sweep file",
+                            file=path)
         with open(path, "rb") as fh:
             return tomllib.load(fh)
     except FileNotFoundError:
@@ -37,5 +45,7 @@ def read_toml(path) -> dict:
         raise UserError(f"not a text file (UTF-8): {exc.reason}", file=path) from None
     except tomllib.TOMLDecodeError as exc:
         raise UserError(f"not valid TOML: {exc}", file=path) from None
+    except RecursionError:
+        raise UserError("not valid TOML: nested too deeply", file=path) from None
     except OSError as exc:
         raise UserError(f"cannot be read: {exc.strerror or exc}", file=path) from None

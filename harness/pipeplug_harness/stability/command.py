@@ -48,6 +48,7 @@ def main(args: argparse.Namespace) -> int:
     if long_steps < 1:
         raise UserError(key="--long-steps", value=args.long_steps, allowed=">= 1")
     args.limits.check("steps", long_steps, f"--long-steps {long_steps}")
+    args.limits.memory(long_steps * 16, f"--long-steps {long_steps} of every output")
     fmu = None
     if args.fmu:
         from pipeplug_harness.fmus import find_fmu

@@ -24,8 +24,8 @@ import numpy as np
 import pyarrow as pa
 
 from pipeplug.interface import OUTPUTS
-from pipeplug.options import OPTIONS
 from pipeplug_harness.errors import UserError
+from pipeplug_harness.session import split_start_values
 from pipeplug_harness.spec import blow_train, elastic_choice
 
 from .sample import varied_values
@@ -85,9 +85,8 @@ def _prepare_blow(values: dict) -> BlowCase:
     blows, output = values.pop("blows"), values.pop("output")
     values.pop("checks", None)
     elastic, _ = elastic_choice(values.pop("elastic"), values, blows["duration"])
-    options = {k: v for k, v in values.items() if k in OPTIONS and v is not None}
+    params, options = split_start_values({k: v for k, v in values.items() if v is not None})
     options["elastic"] = elastic
-    params = {k: v for k, v in values.items() if k not in OPTIONS and v is not None}
     train = blow_train(blows)
     if train.count < 1:
         raise UserError(f"[blows] count = {train.count}; allowed: >= 1 (a sweep's case ends)")

@@ -42,6 +42,9 @@ def main(args: argparse.Namespace) -> int:
     except UserError as exc:
         raise exc.in_file(args.sweep) from None
     out = Path(args.out or Path("out/sweeps") / spec.name)
+    figure = Path(args.figure or Path("out/sweeps") / f"{spec.name}.png")
+    if spec.report != "none" and (figure.is_dir() or (figure.exists() and not figure.is_file())):
+        raise UserError(key="--figure", value=str(figure), allowed="a PNG file's path")
     print(f"{spec.name}: {spec.n_cases} {spec.kind} cases ({spec.sampling} over "
           f"{', '.join(d.name for d in spec.dims)}) in {spec.n_chunks} chunks of "
           f"{spec.chunk}; {checked}; {described(spec)}", flush=True)
@@ -59,7 +62,6 @@ def main(args: argparse.Namespace) -> int:
     for row in errors[:10]:
         print(f"  case {row['case']}: {row['error']}", file=sys.stderr)
     if spec.report != "none":
-        figure = Path(args.figure or Path("out/sweeps") / f"{spec.name}.png")
         module = importlib.import_module(_REPORT_MODULES[spec.report])
         print(module.report(spec, table, figure), flush=True)
     if errors:

@@ -164,7 +164,9 @@ def sweep_spec(name: str, raw: dict, limits: Limits | None = None) -> SweepSpec:
     sampling = given[0]
     allowed = variables(kind)
     varied = raw.pop(sampling)
-    if not isinstance(varied, dict) or not varied:
+    if not isinstance(varied, dict):
+        raise UserError(key=f"[{sampling}]", value=varied, allowed="a section of varied keys")
+    if not varied:
         raise UserError(f"[{sampling}] varies nothing; allowed: {', '.join(allowed)}")
     for key, value in varied.items():
         if key not in allowed:

@@ -72,6 +72,12 @@ def check_system(system: SystemFile, stop: float | None = None, limits=None) -> 
     if abs(exact - round(exact)) > _GRID_TOLERANCE:
         warnings.append(f"stop time {stop!r} s is not on the step grid: running {steps} steps")
     for hammer in system.of_model("Hammer"):
+        if limits is not None:
+            train = blows.check(hammer.values)
+            many = (stop - train.start) / train.period + 1
+            limits.check("blows", min(many, train.count or many),
+                         f"component {hammer.name}: blows every {train.period!r} s to "
+                         f"{stop!r} s")
         misses = systems.grid_misses(systems.System(
             hammer=hammer.values, start=system.start, stop=stop, step=system.step))
         if misses:

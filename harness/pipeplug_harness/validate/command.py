@@ -90,6 +90,8 @@ def main(args: argparse.Namespace) -> int:
     if not (args.step > 0.0 and math.isfinite(args.step)):
         raise UserError(key="--step", value=args.step, allowed="> 0 s")
     args.limits.check("steps", 1.0 / args.step, f"--step {args.step!r} s over a case of up to 1 s")
+    args.limits.check("cases", args.random, f"--random {args.random}")
+    args.limits.memory(2 * args.random * 20, f"--random {args.random} cases' rows")
     fmu = find_fmu(args.fmu)
     with io.OutputFolder(args.out, "validate") as out:
         rows, failures = [], 0
