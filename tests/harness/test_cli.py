@@ -113,3 +113,15 @@ def test_a_missing_build_is_built_once_into_the_cache(tmp_path, monkeypatch):
     assert [p.name for p in first.parent.parent.iterdir()] == [first.parent.name]
     with pytest.raises(UserError, match="no such FMU"):
         fmus.find_fmu(tmp_path / "nowhere.fmu")
+
+
+def test_a_sweep_leaves_nothing_in_the_temporary_directory(tmp_path):
+    """Dask's scratch space and lock files stayed behind in the temporary directory."""
+    (tmp_path / "g.toml").write_text(SCENE.replace("[output]\nstop_time = 0.1\n", "")
+                                     + "[model]\nelastic = false\n[grid]\ntau1 = [1e4, 2e4]\n")
+    temp = tmp_path / "temp"
+    temp.mkdir()
+    proc = _run(tmp_path, "sweep", "g.toml", "--workers", "1", "--no-progress",
+                env={"TMPDIR": str(temp)})
+    assert proc.returncode == 0, proc.stderr
+    assert list(temp.iterdir()) == []
