@@ -9,7 +9,7 @@ from collections.abc import Mapping
 
 from .interface import Model
 from .options import Options
-from .params import Params
+from .params import ParameterError, Params
 
 __all__ = ["build_model"]
 
@@ -45,6 +45,8 @@ def build_model(params: Params | Mapping[str, float] | None = None,
     if not isinstance(params, Params):
         params = Params.from_mapping(params or {})
     params.validate(options.active_groups())
+    if params.has_ram and not options.elastic:
+        _check_rigid_ram(params, options)
     if options.elastic:
         from .elastic.model import ElasticModel
         return ElasticModel(params, options)
@@ -53,3 +55,18 @@ def build_model(params: Params | Mapping[str, float] | None = None,
         return RigidFd(params, options)
     from .rigid.exact import RigidExact
     return RigidExact(params, options, compiled)
+
+
+def _check_rigid_ram(params: Params, options: Options) -> None:
+    """Refuse a ram where the rigid solvers cannot carry it: the exact solver carries it in
+    model I (constant soil friction, or none); the paper's explicit scheme has none."""
+    if options.solver == "fd":
+        raise ParameterError("ram_mass", params.ram_mass, "0 with solver = 'fd' (the paper's "
+                             "explicit scheme has no ram; the exact solver and the elastic "
+                             "model carry one)")
+    if options.contact_growth and params.tau1 > 0.0:
+        raise ParameterError("ram_mass", params.ram_mass, "0 with contact_growth and tau1 > 0 "
+                             "(model II: the soil's friction growing with the penetration and "
+                             "the ram make two coupled frequencies, which the exact solver "
+                             "does not carry in closed form; model I or the elastic model "
+                             "carry a ram)")

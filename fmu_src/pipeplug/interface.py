@@ -19,7 +19,8 @@ from typing import NamedTuple, Protocol
 
 import numpy as np
 
-__all__ = ["Output", "OUTPUTS", "OUTPUT_NAMES", "Outputs", "Model", "ModelBase", "LEDGER_SOURCES",
+__all__ = ["Output", "OUTPUTS", "OUTPUT_NAMES", "PER_STEP", "Outputs", "Model", "ModelBase",
+           "LEDGER_SOURCES",
            "LEDGER_TERMS", "ledger_residual"]
 
 
@@ -52,11 +53,29 @@ OUTPUTS: tuple[Output, ...] = (
            "the part of W_friction dissipated between pipe and plug"),
     Output("E_kinetic", "J", "Real", "kinetic energy of pipe and plug (elastic: the scheme's "
                                      "discrete kinetic energy, >= 0)"),
-    Output("E_strain", "J", "Real", "strain energy of pipe and plug (rigid: 0; elastic: the "
-                                    "scheme's discrete strain energy, >= 0)"),
+    Output("E_strain", "J", "Real", "strain energy of pipe, plug and cushion (rigid: the "
+                                    "cushion's recoverable energy, 0 without a ram; elastic: "
+                                    "the scheme's discrete strain energy, >= 0)"),
     Output("W_numerical", "J", "Real", "energy the numerical scheme dissipated since t = 0 (>= 0; "
                                        "fd: the impulses' share; exact and elastic: 0): W_input "
                                        "= E_kinetic + E_strain + W_friction + W_numerical"),
+    Output("F_head", "N", "Real", "force on the pipe head: Q plus the ram's contact force, "
+                                  "positive into the soil"),
+    Output("v_ram", "m/s", "Real", "velocity of the ram (0 without a ram)"),
+    Output("W_ram", "J", "Real", "energy the strikes brought: the ram's kinetic energy at each "
+                                 "strike, less the kinetic energy the ram still had"),
+    Output("W_cushion", "J", "Real", "energy lost in the cushion (or the direct contact) "
+                                     "between ram and head since t = 0, with any energy the "
+                                     "cushion still held when a new strike reset it"),
+    Output("E_transferred", "J", "Real", "work of F_head on the pipe head since t = 0 (ENTHRU)"),
+    Output("stress_head", "Pa", "Real", "axial stress at the head, compression negative"),
+    Output("stress_min", "Pa", "Real", "most compressive axial stress anywhere along the pipe "
+                                       "during the last communication step (rigid models: "
+                                       "from the rigid body's equilibrium, at the step's end "
+                                       "without a ram; with one, exact over the step but for "
+                                       "a direct impact's impulse)"),
+    Output("stress_max", "Pa", "Real", "most tensile axial stress anywhere along the pipe "
+                                       "during the last communication step (same rule)"),
     Output("at_rest", "1", "Boolean", "true when a step under Q = 0 would leave the whole state "
                                       "unchanged, bit for bit"),
     Output("pipe_mode", "1", "Integer", "pipe/soil contact: -1 sliding backward, 0 stuck to the "
@@ -67,11 +86,16 @@ OUTPUTS: tuple[Output, ...] = (
 
 OUTPUT_NAMES: tuple[str, ...] = tuple(o.name for o in OUTPUTS)
 
+#: The outputs that describe the last communication step as a whole (extremes over it), so
+#: that, unlike every other output, they depend on where the host's points fall.
+PER_STEP: tuple[str, ...] = ("stress_min", "stress_max")
+
 #: The energy ledger, one table for every model and every check of it: the work the sources put
 #: in equals the sum of the stores and sinks, each of which is >= 0 (the dissipated ones never
 #: decrease). Effects added later add their terms here.
-LEDGER_SOURCES: tuple[str, ...] = ("W_input",)
-LEDGER_TERMS: tuple[str, ...] = ("E_kinetic", "E_strain", "W_friction", "W_numerical")
+LEDGER_SOURCES: tuple[str, ...] = ("W_input", "W_ram")
+LEDGER_TERMS: tuple[str, ...] = ("E_kinetic", "E_strain", "W_friction", "W_numerical",
+                                 "W_cushion")
 
 
 def ledger_residual(values) -> float:

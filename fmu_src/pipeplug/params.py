@@ -20,7 +20,8 @@ from functools import cache
 
 import numpy as np
 
-__all__ = ["ParameterError", "Parameter", "PARAMETERS", "Params", "ParamArrays"]
+__all__ = ["ParameterError", "Parameter", "PARAMETERS", "Params", "ParamArrays", "Limit",
+           "LIMITS", "LARGEST"]
 
 
 class ParameterError(ValueError):
@@ -95,9 +96,54 @@ PARAMETERS: tuple[Parameter, ...] = (
               upper_of="L1", active_with="elastic"),
     Parameter("max_internal_steps", "1", 1.0e8, "elastic and fd: the most internal steps one "
               "communication step may take (a longer step is refused)", 1.0),
+    Parameter("ram_mass", "kg", 0.0, "mass of the ram striking the pipe's head; 0: no ram, Q "
+              "alone drives the pipe", 0.0),
+    Parameter("cushion_stiffness", "N/m", 0.0, "loading stiffness of the cushion between ram "
+              "and head; 0: the ram strikes the head directly", 0.0),
+    Parameter("cushion_restitution", "1", 1.0, "coefficient of restitution of the cushion "
+              "(unloading stiffness cushion_stiffness / e^2)", 0.0, True, upper=1.0),
 )
 
 _BY_NAME = {p.name: p for p in PARAMETERS}
+
+#: The largest magnitude of any active parameter the models compute with (squares and products
+#: of a few such values stay finite).
+LARGEST = 1e100
+
+
+@dataclass(frozen=True)
+class Limit:
+    """A derived quantity the models divide by or multiply with, and the range they compute
+    with; a value outside refuses the parameter ``named`` (only where ``active_with`` is: the
+    conditional group, or ``"plug"`` when the plug is simulated)."""
+
+    quantity: str          # a property of Params: P1, S1, M1, ...
+    formula: str
+    unit: str
+    smallest: float        # inclusive
+    largest: float         # inclusive
+    named: str
+    active_with: str | None = None
+
+    def allowed(self, params) -> str:
+        """The allowed range in words, with the quantity's value for ``params``."""
+        return (f"finite, with {self.quantity} = {self.formula} within [{self.smallest:g}, "
+                f"{self.largest:g}] {self.unit} (here {_derived(self, params)!r})")
+
+
+#: Computable limits: areas and masses that would underflow, friction limits (and so works)
+#: that would overflow, wave speeds that would give no internal step, grids too fine to hold.
+LIMITS: tuple[Limit, ...] = (
+    Limit("S1", "pi((R1+h1)^2 - R1^2)", "m2", 1e-100, LARGEST, "h1"),
+    Limit("M1", "rho1*S1*L1", "kg", 1e-100, LARGEST, "rho1"),
+    Limit("S2", "pi*R1^2", "m2", 1e-100, LARGEST, "R1", "plug"),
+    Limit("M2", "rho2*S2*L2", "kg", 1e-100, LARGEST, "rho2", "plug"),
+    Limit("F1", "P1*L1*tau1", "N", 0.0, LARGEST, "tau1"),
+    Limit("F2", "P2*L2*tau2", "N", 0.0, LARGEST, "tau2"),
+    Limit("c1", "sqrt(E1/rho1)", "m/s", 1e-100, LARGEST, "E1", "elastic"),
+    Limit("c2", "sqrt(E2/rho2)", "m/s", 1e-100, LARGEST, "E2", "elastic"),
+    Limit("cells", "L1/dx", "cells", 1.0, 1e6, "dx", "elastic"),
+)
 
 
 class _Formulas:
@@ -150,6 +196,16 @@ class _Formulas:
         return self.tau2 > 0.0 and self.L2 > 0.0
 
     @property
+    def has_ram(self) -> bool:
+        """True when a ram strikes the pipe (ram_mass > 0)."""
+        return self.ram_mass > 0.0
+
+    @property
+    def cells(self) -> float:
+        """Cells of the elastic pipe, L1/dx [1]."""
+        return self.L1 / self.dx
+
+    @property
     def c1(self) -> float:
         """Rod wave speed of the pipe, sqrt(E1/rho1) [m/s]."""
         return math.sqrt(self.E1 / self.rho1)
@@ -196,10 +252,21 @@ class _Derived(_Formulas):
         ParameterError
             Naming the first offending parameter, its value and the allowed range.
         """
-        for p in _checked(frozenset(active)):
+        active = frozenset(active)
+        for p in PARAMETERS:
             value = getattr(self, p.name)
-            if not _within(p, value, self):
-                raise ParameterError(p.name, value, p.allowed())
+            if p not in _checked(active):
+                ok, allowed = _finite(value), _INACTIVE
+            elif not _within(p, value, self):
+                ok, allowed = False, _allowed(p, self)
+            else:
+                ok, allowed = abs(value) <= LARGEST, _LARGEST
+            if not ok:
+                raise ParameterError(p.name, value, allowed)
+        for limit in _limits(active):
+            if not _in_limits(limit, self):
+                raise ParameterError(limit.named, getattr(self, limit.named),
+                                     limit.allowed(self))
         return self
 
 
@@ -235,11 +302,21 @@ class ParamArrays(_Formulas):
         ParameterError
             Naming the first offending parameter and its first offending value.
         """
-        for p in _checked(frozenset(active)):
+        active = frozenset(active)
+        for p in PARAMETERS:
             values = getattr(self, p.name)
-            ok = _in_range(p, values, self)
+            checks = ([(_in_range(p, values, self), _allowed(p, self)),
+                       (abs(values) <= LARGEST, _LARGEST)] if p in _checked(active)
+                      else [(values - values == 0.0, _INACTIVE)])
+            for ok, allowed in checks:
+                if not np.all(ok):
+                    raise ParameterError(p.name, float(values[np.argmin(ok)]), allowed)
+        for limit in _limits(active):
+            ok = _in_limits(limit, self)
             if not np.all(ok):
-                raise ParameterError(p.name, float(values[np.argmin(ok)]), p.allowed())
+                first = int(np.argmin(ok))
+                raise ParameterError(limit.named, float(getattr(self, limit.named)[first]),
+                                     limit.allowed(_Case(self, first)))
         return self
 
 
@@ -277,6 +354,66 @@ def _as_number(value):
 def _checked(active: frozenset[str]) -> tuple[Parameter, ...]:
     """The parameters checked when the groups ``active`` are: all but those of other groups."""
     return tuple(p for p in PARAMETERS if p.active_with is None or p.active_with in active)
+
+
+@cache
+def _limits(active: frozenset[str]) -> tuple[Limit, ...]:
+    """The limits checked when the groups ``active`` are (a ``"plug"`` limit is checked where
+    the plug is simulated)."""
+    return tuple(x for x in LIMITS if x.active_with in (None, "plug") or x.active_with in active)
+
+
+def _finite(value) -> bool:
+    """True for a finite real number (inactive parameters must still be one)."""
+    return not isinstance(value, bool) and isinstance(value, (int, float)) and value - value == 0
+
+
+_INACTIVE = "finite (checked also where the parameter is not used)"
+_LARGEST = f"a magnitude <= {LARGEST:g} (the largest the models compute with)"
+
+
+def _allowed(p: Parameter, params) -> str:
+    """What a refusal of ``p`` says is allowed: its range, with the value of the parameter that
+    bounds it from above."""
+    if p.upper_of is None:
+        return p.allowed()
+    bound = params.L1 / 2.0 if p.upper_of == "L1/2" else getattr(params, p.upper_of)
+    return f"{p.allowed()} ({p.upper_of} = {_first(bound)!r})"
+
+
+def _first(value):
+    """A scalar, or the first element of an array (for messages)."""
+    return float(np.ravel(value)[0]) if np.ndim(value) else value
+
+
+class _Case:
+    """One case of a :class:`ParamArrays`, for messages."""
+
+    def __init__(self, arrays: ParamArrays, index: int):
+        for p in PARAMETERS:
+            setattr(self, p.name, float(getattr(arrays, p.name)[index]))
+
+    def __getattr__(self, name):               # derived quantities, by Params' formulas
+        return getattr(_Formulas, name).fget(self)
+
+
+def _derived(limit: Limit, params):
+    """The quantity of ``limit`` for ``params``; inf where its formula overflows."""
+    with np.errstate(all="ignore"):
+        try:
+            return getattr(params, limit.quantity)
+        except (OverflowError, ZeroDivisionError):
+            return math.inf
+
+
+def _in_limits(limit: Limit, params):
+    """Whether the quantity of ``limit`` is within it (a bool, or an array of them); always
+    where it is inactive (the plug not simulated)."""
+    value = _derived(limit, params)
+    ok = (value >= limit.smallest) & (value <= limit.largest)    # False for NaN
+    if limit.active_with == "plug":
+        ok = ok | ~np.asarray(params.has_plug)
+    return ok
 
 
 def _within(p: Parameter, value: float, params: Params) -> bool:

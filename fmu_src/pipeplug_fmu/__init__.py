@@ -1,12 +1,18 @@
 """pipeplug_fmu: the FMI adapters of PipePlug and Hammer, the build of their FMUs and of the
 pipe-ramming system files.
 
+* :mod:`pipeplug_fmu.base`: the FMI base of both slaves (call sequence, refusals, FMU state;
+  with :mod:`pipeplug_fmu.sequence` and :mod:`pipeplug_fmu.fmu_state`);
+* :mod:`pipeplug_fmu.pythonfmu07`: every pythonfmu 0.7 workaround, with the behaviour it works
+  around;
 * :mod:`pipeplug_fmu.slave`: the pythonfmu slave around the core (runs only inside an FMU);
-* :mod:`pipeplug_fmu.fmi`: the FMUs' interface tables, refusals and modelDescription additions;
+* :mod:`pipeplug_fmu.fmi`: the FMUs' interface tables, refusal wording and modelDescription
+  additions;
 * :mod:`pipeplug_fmu.blows`: Hammer's blow train (its parameter table, checks and force);
 * :mod:`pipeplug_fmu.hammer`: Hammer's pythonfmu slave (runs only inside an FMU);
 * :mod:`pipeplug_fmu.native`: the FMUs' linux64 binary, a C loader in front of pythonfmu's
-  (finds a Python, log categories, fmi2Error for refusals, resource URIs, exit guard);
+  (finds a Python, log lines and statuses, the gate after an error, argument, resource and
+  FMU-state checks, exit guard);
 * :mod:`pipeplug_fmu.documentation`, :mod:`pipeplug_fmu.hammer_documentation`: the FMUs'
   ``documentation/index.html``;
 * :mod:`pipeplug_fmu.systems`: ``PipeRamming.ssp`` and ``OspSystemStructure.xml``, Hammer

@@ -39,6 +39,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from .native import compile_loader, inner_name
+from .pythonfmu07 import SCRIPT
 
 __all__ = ["build", "build_fmu", "stage", "install_loader", "main", "DEFAULT_DEST", "FMUS"]
 
@@ -59,13 +60,16 @@ class FmuKind:
     documentation: str         # the adapter module with documentation_html()
 
 
+#: The FMI base every FMU ships: base (with its call sequence and FMU states), its pythonfmu 0.7
+#: workarounds, the interface helpers.
+_BASE = ("base.py", "sequence.py", "fmu_state.py", "pythonfmu07.py", "fmi.py")
+
 #: The project's FMUs by modelIdentifier.
 FMUS = {
-    "PipePlug": FmuKind("PipePlug", "pipeplug", "slave", ("__init__.py", "slave.py", "fmi.py"),
-                        True, "documentation"),
-    "Hammer": FmuKind("Hammer", "hammer", "hammer",
-                      ("__init__.py", "hammer.py", "blows.py", "fmi.py"), False,
-                      "hammer_documentation"),
+    "PipePlug": FmuKind("PipePlug", "pipeplug", "slave",
+                        ("__init__.py", "slave.py", *_BASE), True, "documentation"),
+    "Hammer": FmuKind("Hammer", "hammer", "hammer", ("__init__.py", "hammer.py", "blows.py",
+                                                     *_BASE), False, "hammer_documentation"),
 }
 
 
@@ -154,26 +158,9 @@ def stage(folder: Path, identifier: str = "PipePlug") -> tuple[Path, Path]:
         target.parent.mkdir(parents=True, exist_ok=True)
         shutil.copy2(path, target)
     script = folder / f"{kind.prefix}_slave_{tag}.py"
-    script.write_text(_SCRIPT.format(tag=tag, prefix=kind.prefix, module=kind.module,
+    script.write_text(SCRIPT.format(tag=tag, prefix=kind.prefix, module=kind.module,
                                      cls=identifier), encoding="utf-8")
     return script, package
-
-
-# pythonfmu 0.7's fmi2Instantiate imports the slave script's module, executes the file once
-# more with the module's namespace as globals and a fresh dict as locals (to find the class),
-# and then releases that namespace, which it had only borrowed. Each instantiation would leave
-# the namespace one reference short, until it is freed under the module. The script takes the
-# reference back in exactly that execution, the one whose locals are not its globals.
-_SCRIPT = '''"""The {cls} slave of build {tag} (see pipeplug_fmu.build)."""
-import ctypes as _ctypes
-
-from {prefix}_fmu_{tag}.{module} import {cls}
-
-__all__ = ["{cls}"]
-
-if locals() is not globals():   # pythonfmu's class search: it releases globals() once after
-    _ctypes.pythonapi.Py_IncRef(_ctypes.py_object(globals()))
-'''
 
 
 def main(argv: list[str] | None = None) -> int:

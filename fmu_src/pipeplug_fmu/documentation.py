@@ -74,12 +74,18 @@ _STEPPING = """
 "fd", courant dx / c for the elastic model; "exact" needs none).</li>
 <li>The FMU keeps its own time: a doStep whose communication point differs from it by more than
 1e-9 max(1, |t|) is refused (fmi2Discard); within that tolerance the FMU adopts the host's time.
-Stepping past the stopTime of fmi2SetupExperiment is refused (fmi2Discard).</li>
-<li>A non-finite Q is refused at doStep (fmi2Discard). A non-finite or out-of-range parameter, an
-unknown option value, a fixed parameter set after initialization, or a get or set of an unknown
-value reference is refused with fmi2Error; each refusal is one log line naming the variable, its
-value and the allowed range. Afterwards that instance answers every call quietly until fmi2Reset,
-which makes it usable again (or it can be terminated and freed); other instances are not
+Stepping past the stopTime of fmi2SetupExperiment is refused with fmi2Error, as FMI 2.0
+requires.</li>
+<li>A non-finite Q, a step size that is not positive, or a step the model cannot take is refused
+at doStep (fmi2Discard; nothing changes). A non-finite or out-of-range parameter (active or not),
+a value the model cannot compute with, an unknown option value, a fixed parameter set after
+initialization, a get or set of an unknown value reference, a String that is not UTF-8, a call
+out of the FMI 2.0 call sequence, a NULL array or pointer, an FMU state that is not one of this
+build, and a step whose outputs would not be finite are refused with fmi2Error; each refusal is
+one log line naming the variable (or the call), its value and what is allowed, logged whether
+debug logging is on or off. After an fmi2Error the instance accepts fmi2SetFMUstate, fmi2Reset,
+fmi2Terminate and fmi2FreeInstance; every other call is refused with one short line
+until fmi2Reset (or a state set), which makes it usable again; other instances are not
 affected.</li>
 <li>Every log line carries a category of the LogCategories in modelDescription.xml
 (logStatusDiscard, logStatusError, ...); a <code>%</code> in logged text is written
@@ -108,10 +114,15 @@ loads an FMU with dlopen can so run PipePlug: C and C++ importers need no LD_PRE
 PYTHONPATH. The resource location may be given in any spelling of a file URI
 (<code>file:///p</code>, <code>file:/p</code>, <code>file://localhost/p</code>, with
 percent-encoded characters); if it is not a file URI, the <code>resources</code> folder next to
-<code>binaries</code> is used.</p>
+<code>binaries</code> is used; a file URI of a folder without these resources, a malformed one, or
+a NULL instance name makes fmi2Instantiate return NULL after one line. A python that does not
+answer within 60 s (<code>PIPEPLUG_PYTHON_TIMEOUT</code> seconds) or prints more than 1 MiB when
+asked is stopped and not used.</p>
 <p>On win64 the binary is pythonfmu's own, unchanged: it needs a Python-hosted importer with
-numpy, and it reports refusals as fmi2Fatal (with no category) instead of fmi2Error. The win64
-binary is not run-tested by this project.</p>
+numpy; it refuses the same values and calls, but reports refusals as fmi2Fatal (with no category)
+instead of fmi2Error, logs nothing with debug logging off, and has none of the linux64 loader's
+checks of pointers, strings and resource locations. The win64 binary
+is not run-tested by this project.</p>
 <p>The FMU brings its own copy of the core and uses it even when the host has imported
 another one. With numba installed, the elastic kernels are compiled (cached on disk under
 <code>~/.cache/pipeplug</code> or <code>PIPEPLUG_CACHE_DIR</code>); without it, or with

@@ -46,13 +46,16 @@ _STATUSES = """
 <ul>
 <li>The FMU keeps its own time: a doStep whose communication point differs from it by more than
 1e-9 max(1, |t|) is refused (fmi2Discard); within that tolerance the FMU adopts the host's time.
-A doStep before initialization, of a step size that is not &gt; 0, or past the stopTime of
-fmi2SetupExperiment is refused (fmi2Discard); the instance stays usable.</li>
+A doStep of a step size that is not &gt; 0 is refused (fmi2Discard); the instance stays
+usable. A doStep past the stopTime of fmi2SetupExperiment is fmi2Error, as FMI 2.0 requires.</li>
 <li>A non-finite or out-of-range parameter makes fmi2ExitInitializationMode return fmi2Error; a
-fixed parameter set after initialization, or a get or set of an unknown value reference, is
-refused with fmi2Error. Each refusal is one log line naming the variable, its value and the
-allowed range. Afterwards that instance answers every call quietly until fmi2Reset, which makes
-it usable again (or it can be terminated and freed); other instances are not affected.</li>
+fixed parameter set after initialization, a get or set of an unknown value reference, a call out
+of the FMI 2.0 call sequence (a doStep before initialization, ...), a NULL array or pointer and an
+FMU state that is not one of this build are refused with fmi2Error. Each refusal is one log line
+naming the variable (or the call), its value and the allowed range, logged whether debug logging
+is on or off. After an fmi2Error the instance accepts fmi2SetFMUstate, fmi2Reset, fmi2Terminate
+and fmi2FreeInstance; every other call is refused with one short line until fmi2Reset (or a
+state set), which makes it usable again; other instances are not affected.</li>
 <li>Every log line carries a category of the LogCategories in modelDescription.xml;
 a <code>%</code> in logged text is written <code>%%</code>.</li>
 <li>fmi2GetFMUstate, fmi2SetFMUstate and the serialization functions save the whole state

@@ -29,4 +29,6 @@ def test_numpy_references_agree_with_the_core(runner, changes, growth):
     assert core.acc[2] > 0.0 and (core.acc[1] > 0.0) == (changes["tau1"] > 0.0)
     for name in FIELDS:
         a, b = getattr(core, name), getattr(ref, name)
+        if name == "acc":       # the reference books the works and forces, not the extremes
+            a, b = a[:5], b[:5]
         np.testing.assert_allclose(b, a, rtol=0, atol=1e-12 * np.abs(a).max(), err_msg=name)

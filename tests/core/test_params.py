@@ -9,7 +9,8 @@ from pipeplug.options import Options
 # The FMU contract's defaults (SI), typed from the contract table.
 CONTRACT_DEFAULTS = dict(L1=1.0, L2=1.0, R1=0.035, h1=0.003, rho1=7800, rho2=1800, E1=1.95e11,
                          E2=6.0e8, tau1=0, tau2=1.0e4, dt=2.0e-4, dx=0.01, courant=1.0,
-                         x_monitor=0.5,
+                         x_monitor=0.5, ram_mass=0.0, cushion_stiffness=0.0,
+                         cushion_restitution=1.0,
                          max_internal_steps=1e8)     # not in the contract: the project's own
 
 
@@ -54,3 +55,47 @@ def test_unknown_options_name_the_allowed_ones(options, match):
 def test_unknown_parameter_is_refused():
     with pytest.raises(ParameterError, match="L1"):
         build_model({"length": 2.0})
+
+
+@pytest.mark.parametrize("changes, options, name, words", [
+    ({"h1": 1e-18}, {}, "h1", "S1 = pi((R1+h1)^2 - R1^2) within [1e-100"),     # cancels to 0
+    ({"R1": 1e-300}, {"elastic": True}, "R1", "S2 = pi*R1^2"),                  # underflows
+    ({"rho1": 1e-300}, {}, "rho1", "M1 = rho1*S1*L1"),
+    ({"R1": 1e300}, {}, "R1", "a magnitude <= 1e+100"),                         # R1^2 overflows
+    ({"tau2": 1e99, "L1": 1e3, "L2": 1e3}, {}, "tau2", "F2 = P2*L2*tau2"),      # works overflow
+    ({"E1": 1e100, "rho1": 1e-200, "R1": 1e25, "h1": 1e25, "L1": 1e50, "L2": 0.0,
+      "dx": 5e49}, {"elastic": True}, "E1", "c1 = sqrt(E1/rho1)"),              # 1e150 m/s
+    ({"dx": 1e-7}, {"elastic": True}, "dx", "cells = L1/dx within [1, 1e+06]"),
+])
+def test_values_the_models_cannot_compute_with_are_refused_by_name(changes, options, name,
+                                                                   words):
+    with pytest.raises(ParameterError) as err:
+        build_model(changes, options)
+    assert err.value.name == name and err.value.value == changes[name]
+    assert words in err.value.allowed, err.value.allowed
+
+
+def test_limits_of_the_plug_apply_only_where_it_is_simulated():
+    build_model({"R1": 1e-60, "h1": 1.0, "tau2": 0.0})      # S2 = 3e-120 m2, no plug: fine
+    with pytest.raises(ParameterError, match="R1"):
+        build_model({"R1": 1e-60, "h1": 1.0})
+
+
+@pytest.mark.parametrize("name", ["E1", "E2", "dt", "dx", "courant", "x_monitor"])
+@pytest.mark.parametrize("value", [math.nan, math.inf, -math.inf])
+def test_every_non_finite_parameter_is_refused_active_or_not(name, value):
+    with pytest.raises(ParameterError) as err:
+        build_model({name: value})                         # rigid exact: all six unused
+    assert err.value.name == name and "finite" in err.value.allowed
+
+
+def test_the_batch_api_refuses_the_same_cases():
+    import numpy as np
+
+    from pipeplug.params import ParamArrays
+
+    with pytest.raises(ParameterError) as err:
+        ParamArrays({"h1": np.array([0.003, 1e-18]), "dt": 1e-4}).validate()
+    assert (err.value.name, err.value.value) == ("h1", 1e-18)
+    with pytest.raises(ParameterError, match="dt = nan"):
+        ParamArrays({"dt": np.array([1e-4, math.nan])}).validate()

@@ -60,12 +60,13 @@ def guid_of(fmu_dir: Path) -> str:
 
 
 class CHost:
-    """One C host process with the FMU binary ``binary`` loaded.
+    """One C host process with the FMU binary ``binary`` loaded (or another host speaking its
+    commands, such as ``fmpy_host.py``).
 
     Parameters
     ----------
-    exe : Path
-        The compiled host.
+    exe : Path or list
+        The compiled host, or the command line of another host.
     binary : Path
         ``binaries/linux64/PipePlug.so`` of an extracted FMU.
     env : dict, optional
@@ -73,7 +74,8 @@ class CHost:
     """
 
     def __init__(self, exe: Path, binary: Path, env: dict | None = None):
-        self.proc = subprocess.Popen([str(exe), str(binary)], stdin=subprocess.PIPE,
+        argv = [str(exe)] if isinstance(exe, (str, Path)) else [str(w) for w in exe]
+        self.proc = subprocess.Popen([*argv, str(binary)], stdin=subprocess.PIPE,
                                      stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                                      env=env)
         self._lines: Queue = Queue()

@@ -1,20 +1,26 @@
 /* A plain C FMI 2.0 host for the tests: no Python in it, the FMU's binary opened with dlopen
  * (RTLD_NOW | RTLD_LOCAL) as C importers do. Driven by commands on stdin, one a line:
  *
- *   instantiate NAME GUID URI LOGGING      -> int ID, or null
+ *   open BINARY                            -> int L: another FMU's binary (0: the first one)
+ *   instantiate NAME GUID URI LOGGING [TYPE [L]]  -> int ID, or null (of binary L)
  *   call ID METHOD ARGS...                 -> the FMI status; getters: their values
  *       setupExperiment TOL|none START STOP|none     doStep T H
  *       enterInitializationMode exitInitializationMode terminate reset
  *       get{Real,Integer,Boolean,String} N VR...      set{...} N VR... VALUE...
- *   get_state ID -> int S;  set_state ID S;  free_state ID S;  serialize ID S -> hex BYTES
+ *   get_state ID -> int S;  set_state ID S (S 0: NULL);  free_state ID S [keep]
+ *       (keep: the slot keeps the freed pointer);  serialize ID S [SIZE] -> hex BYTES
+ *       (SIZE: the buffer's size given instead of fmi2SerializedFMUstateSize's)
  *   deserialize ID BYTES -> int S;  free ID
+ *   null ID METHOD N                       -> METHOD with NULL pointer arguments (N elements)
+ *   debug ID ON N CATEGORY...              -> fmi2SetDebugLogging
  *   pulse ID QVR Q0 T0 H N NVR VR...       -> N steps of Q = Q0 for t < T0, else 0, stepped
  *                                             t = k H; us per step and the NVR outputs per step
  *   setenv NAME VALUE                      (VALUE "-": unset)
  *   guard                                  -> the loader's exit-guard target and its 2 words
  *   quit
  *
- * Strings (NAME, GUID, URI, string values, BYTES) are hex-encoded. Each log message is printed
+ * Strings (NAME, GUID, URI, string values, BYTES, BINARY) are hex-encoded, "~" for NULL. Each
+ * log message is printed
  * when it comes, as "@L INSTANCE STATUS CATEGORY MESSAGE" (hex; CATEGORY "-" when NULL), after
  * printf formatting as hosts do; the answer is "@@ STATUS KIND VALUES...".
  */
@@ -42,8 +48,10 @@ typedef struct {
 } Callbacks;
 
 #define MAX 4096
-static void *lib;
+static void *libs[8], *lib;                 /* lib: the binary of the current command */
+static int n_libs;
 static fmi2Component instances[MAX];
+static void *instance_libs[MAX];
 static fmi2FMUstate states[MAX];
 static int n_instances, n_states;
 
@@ -63,8 +71,12 @@ static void put_hex(const char *s, size_t n) {
     for (size_t i = 0; i < n; i++) printf("%02x", (unsigned char)s[i]);
 }
 
-/* Decode hex into a new string ("-" is empty); *len gets its length. */
+/* Decode hex into a new string ("-" is empty, "~" NULL); *len gets its length. */
 static char *from_hex(const char *hex, size_t *len) {
+    if (strcmp(hex, "~") == 0) {
+        if (len) *len = 0;
+        return NULL;
+    }
     size_t n = strcmp(hex, "-") == 0 ? 0 : strlen(hex) / 2;
     char *s = malloc(n + 1);
     for (size_t i = 0; i < n; i++) {
@@ -145,7 +157,7 @@ static void call(fmi2Component c, const char *method, char **a) {
                 if (kind == 'R') printf(" %.17g", ((double *)values)[i]);
                 else if (kind == 'S') {
                     fmi2String s = ((fmi2String *)values)[i];
-                    put_hex(s, strlen(s));
+                    put_hex(s ? s : "~", s ? strlen(s) : 1);
                 } else printf(" %d", ((int *)values)[i]);
             }
             putchar('\n');
@@ -198,6 +210,39 @@ static void pulse(fmi2Component c, char **a) {
     free(out), free(vr);
 }
 
+/* METHOD of instance c with NULL where it takes pointers, n elements where it takes a count. */
+static void null_call(fmi2Component c, const char *method, size_t n) {
+    typedef fmi2Status (*Arrays)(fmi2Component, const void *, size_t, void *);
+    typedef fmi2Status (*Pointer)(fmi2Component, void *);
+    typedef fmi2Status (*Query)(fmi2Component, int, void *);
+    char name[64];
+    snprintf(name, sizeof name, "fmi2%c%s", method[0] - 'a' + 'A', method + 1);
+    if (strncmp(method, "get", 3) == 0 && strstr(method, "Status") != NULL)
+        answer_status(((Query)fn(name))(c, 2, NULL));             /* fmi2LastSuccessfulTime */
+    else if (strcmp(method, "getFMUstate") == 0 || strcmp(method, "freeFMUstate") == 0)
+        answer_status(((Pointer)fn(name))(c, NULL));
+    else if (strcmp(method, "serializedFMUstateSize") == 0)
+        answer_status(((fmi2Status (*)(fmi2Component, void *, void *))fn(name))(c, NULL, NULL));
+    else if (strcmp(method, "deSerializeFMUstate") == 0)
+        answer_status(((fmi2Status (*)(fmi2Component, const void *, size_t, void *))fn(name))(
+            c, NULL, n, NULL));
+    else if (strcmp(method, "setDebugLogging") == 0)
+        answer_status(((fmi2Status (*)(fmi2Component, int, size_t, void *))fn(name))(
+            c, 1, n, NULL));
+    else
+        answer_status(((Arrays)fn(name))(c, NULL, n, NULL));
+}
+
+static void debug_logging(fmi2Component c, char **a) {
+    size_t n = strtoul(a[1], NULL, 10);
+    char **categories = calloc(n + 1, sizeof *categories);
+    for (size_t i = 0; i < n; i++) categories[i] = from_hex(a[2 + i], NULL);
+    answer_status(((fmi2Status (*)(fmi2Component, int, size_t, char **))fn(
+        "fmi2SetDebugLogging"))(c, atoi(a[0]), n, categories));
+    for (size_t i = 0; i < n; i++) free(categories[i]);
+    free(categories);
+}
+
 static char guard_symbol[256];
 
 int main(int argc, char **argv) {
@@ -209,7 +254,7 @@ int main(int argc, char **argv) {
     const char *base = strrchr(argv[1], '/') ? strrchr(argv[1], '/') + 1 : argv[1];
     snprintf(guard_symbol, sizeof guard_symbol, "%.*s_exitGuardTarget",
              (int)(strstr(base, ".so") ? strstr(base, ".so") - base : (long)strlen(base)), base);
-    lib = dlopen(argv[1], RTLD_NOW | RTLD_LOCAL);
+    lib = libs[n_libs++] = dlopen(argv[1], RTLD_NOW | RTLD_LOCAL);
     if (lib == NULL) {
         printf("@@ 4 dlopen %s\n", dlerror());
         return 3;
@@ -222,22 +267,33 @@ int main(int argc, char **argv) {
         if (n_words == 0) continue;
         const char *op = words[0];
         fmi2Component c = n_words > 1 ? instances[atoi(words[1]) % MAX] : NULL;
+        lib = n_words > 1 && instance_libs[atoi(words[1]) % MAX] ? instance_libs[atoi(words[1]) % MAX]
+                                                                 : libs[0];
         if (strcmp(op, "quit") == 0) {
             break;
+        } else if (strcmp(op, "open") == 0) {
+            char *path = from_hex(words[1], NULL);
+            void *opened = n_libs < 8 ? dlopen(path, RTLD_NOW | RTLD_LOCAL) : NULL;
+            if (opened == NULL) printf("@@ 4 dlopen %s\n", dlerror());
+            else printf("@@ 0 int %d\n", n_libs), libs[n_libs++] = opened;
+            free(path);
         } else if (strcmp(op, "instantiate") == 0) {
             char *name = from_hex(words[1], NULL), *guid = from_hex(words[2], NULL),
                  *uri = from_hex(words[3], NULL);
+            int type = n_words > 5 ? atoi(words[5]) : 1;
+            lib = n_words > 6 ? libs[atoi(words[6]) % 8] : libs[0];
             fmi2Component (*f)(fmi2String, int, fmi2String, fmi2String, const Callbacks *, int,
                                int) =
                 (fmi2Component (*)(fmi2String, int, fmi2String, fmi2String, const Callbacks *,
                                    int, int))fn("fmi2Instantiate");
-            fmi2Component made = f(name, 1, guid, uri, &callbacks, 0, atoi(words[4]));
+            fmi2Component made = f(name, type, guid, uri, &callbacks, 0, atoi(words[4]));
             if (made == NULL) {
                 printf("@@ 0 null\n");
             } else if (instances[(n_instances + 1) % MAX] != NULL) {
                 printf("@@ 4 host: more than %d instances alive\n", MAX - 1);  /* never wrap */
             } else {
                 instances[++n_instances % MAX] = made;    /* ids look up modulo MAX too */
+                instance_libs[n_instances % MAX] = lib;
                 printf("@@ 0 int %d\n", n_instances);
             }
             free(name), free(guid), free(uri);
@@ -268,15 +324,20 @@ int main(int argc, char **argv) {
             answer_status(((fmi2Status (*)(fmi2Component, fmi2FMUstate))fn("fmi2SetFMUstate"))(
                 c, states[atoi(words[2]) % MAX]));
         } else if (strcmp(op, "free_state") == 0) {
+            fmi2FMUstate kept = states[atoi(words[2]) % MAX];
             answer_status(((fmi2Status (*)(fmi2Component, fmi2FMUstate *))fn("fmi2FreeFMUstate"))(
                 c, &states[atoi(words[2]) % MAX]));
-            states[atoi(words[2]) % MAX] = NULL;            /* the slot is free again */
+            /* the slot is free again, or keeps the freed pointer ("keep") */
+            states[atoi(words[2]) % MAX] = n_words > 3 && strcmp(words[3], "keep") == 0 ? kept
+                                                                                       : NULL;
         } else if (strcmp(op, "serialize") == 0) {
             fmi2FMUstate state = states[atoi(words[2]) % MAX];
             size_t size = 0;
             int status = ((fmi2Status (*)(fmi2Component, fmi2FMUstate, size_t *))fn(
                 "fmi2SerializedFMUstateSize"))(c, state, &size);
-            char *bytes = calloc(size + 1, 1);
+            size_t real = size;
+            if (n_words > 3) size = strtoul(words[3], NULL, 10);       /* a buffer of SIZE */
+            char *bytes = calloc((size > real ? size : real) + 1, 1);
             if (status == 0)
                 status = ((fmi2Status (*)(fmi2Component, fmi2FMUstate, char *, size_t))fn(
                     "fmi2SerializeFMUstate"))(c, state, bytes, size);
@@ -284,9 +345,13 @@ int main(int argc, char **argv) {
             put_hex(bytes, size);
             putchar('\n');
             free(bytes);
+        } else if (strcmp(op, "null") == 0) {
+            null_call(c, words[2], strtoul(words[3], NULL, 10));
+        } else if (strcmp(op, "debug") == 0) {
+            debug_logging(c, words + 2);
         } else if (strcmp(op, "free") == 0) {
             ((void (*)(fmi2Component))fn("fmi2FreeInstance"))(c);
-            instances[atoi(words[1]) % MAX] = NULL;
+            instances[atoi(words[1]) % MAX] = NULL, instance_libs[atoi(words[1]) % MAX] = NULL;
             answer_status(0);
         } else if (strcmp(op, "setenv") == 0) {
             char *name = from_hex(words[1], NULL), *value = from_hex(words[2], NULL);

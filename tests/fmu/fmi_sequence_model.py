@@ -24,9 +24,11 @@ DEFAULTS = {"L1": 1.0, "L2": 1.0, "R1": 0.035, "h1": 0.003, "rho1": 7800.0, "rho
             "courant": 1.0, "x_monitor": 0.5, "contact_growth": False, "elastic": False,
             "solver": "exact"}
 OPTIONS = ("solver", "contact_growth", "elastic")
+NUMBERS = tuple(name for name in DEFAULTS if name not in OPTIONS)
 REAL_OUTPUTS = ("v_pipe", "v_plug", "u_pipe", "u_plug", "F_outer", "F_inner", "W_input",
                 "W_friction", "W_friction_outer", "W_friction_inner", "E_kinetic", "E_strain",
-                "W_numerical")
+                "W_numerical", "F_head", "v_ram", "W_ram", "W_cushion", "E_transferred",
+                "stress_head", "stress_min", "stress_max")
 MODES = ("pipe_mode", "plug_mode")
 FLAGS = ("at_rest",)
 OK, DISCARD, ERROR = 0, 2, 3
@@ -51,7 +53,8 @@ def _whole(length: float, dx: float) -> bool:
 def invalid_names(given: dict) -> set[str]:
     """Names the contract refuses at exitInitializationMode for these set values."""
     v = {**DEFAULTS, **given}
-    bad = {name for name in ("L1", "R1", "h1", "rho1", "rho2") if not _positive(v[name])}
+    bad = {name for name in NUMBERS if not _finite(v[name])}   # active or not
+    bad |= {name for name in ("L1", "R1", "h1", "rho1", "rho2") if not _positive(v[name])}
     bad |= {name for name in ("tau1", "tau2") if not (_finite(v[name]) and v[name] >= 0.0)}
     if not (_finite(v["L2"]) and 0.0 <= v["L2"] <= v["L1"]):
         bad.add("L2")
@@ -82,15 +85,15 @@ def mirror_model(given: dict):
 class Instance:
     """The expected state of one FMU instance.
 
-    ``phase``: "instantiated", "init" (parameters settable, not built), "run", "dead" (after
-    its one error: quiet from then on, until reset); ``wild`` after a call in an order FMI forbids and the
-    contract leaves open (then only survival is checked).
+    ``phase``: FMI 2.0's "instantiated", "init" (initialization mode: parameters settable, no
+    model yet), "run" (stepping), "terminated", and "error" after a call returned fmi2Error
+    (every call but fmi2SetFMUstate, fmi2Reset, fmi2Terminate, fmi2FreeInstance and
+    fmi2FreeFMUstate refused with one line, until a state is set or the instance reset).
     """
 
     ident: int
     name: str
     phase: str = "instantiated"
-    wild: bool = False
     given: dict = field(default_factory=dict)
     q: float = 0.0
     time: float = 0.0
@@ -100,48 +103,44 @@ class Instance:
     states: set = field(default_factory=set)     # FMU states obtained through this instance
 
     def reset(self) -> None:
-        self.phase, self.wild, self.given, self.q, self.time = "instantiated", False, {}, 0.0, 0.0
+        self.phase, self.given, self.q, self.time = "instantiated", {}, 0.0, 0.0
         self.stop, self.mirror, self.outputs = None, None, {}
 
     def snapshot(self) -> dict:
-        """What an FMU state taken now holds (kind "run", "pre", "dead" or "wild")."""
-        kind = "wild" if self.wild else {"run": "run", "dead": "dead"}.get(self.phase, "pre")
-        snap = {"kind": kind, "given": dict(self.given), "q": self.q, "time": self.time,
+        """What an FMU state taken now holds (never taken in "error": refused there)."""
+        snap = {"kind": self.phase, "given": dict(self.given), "q": self.q, "time": self.time,
                 "stop": self.stop, "outputs": dict(self.outputs)}
-        if kind == "run":
+        if self.mirror is not None:
             snap["model"] = {k: (v.copy() if hasattr(v, "copy") else v)
                              for k, v in self.mirror.get_state().items()}
         return snap
 
     def restore(self, snap: dict) -> None:
-        """Take over a snapshot of kind "run" or "pre"."""
+        """Take over a snapshot: its phase, values, time and model."""
         self.given, self.q, self.time, self.stop = dict(snap["given"]), snap["q"], snap["time"], \
             snap["stop"]
-        self.outputs = dict(snap["outputs"])
-        if snap["kind"] == "run":
-            self.phase, self.mirror = "run", mirror_model(self.given)
+        self.outputs, self.phase, self.mirror = dict(snap["outputs"]), snap["kind"], None
+        if "model" in snap:
+            self.mirror = mirror_model(self.given)
             self.mirror.set_state({k: (v.copy() if hasattr(v, "copy") else v)
                                    for k, v in snap["model"].items()})
-        else:
-            self.phase, self.mirror = "init", None
 
 
-def step_refusals(inst: Instance, t: float, h: float) -> list[str]:
-    """Why the contract refuses doStep(t, h) (empty: it must be taken)."""
-    if inst.phase != "run":
-        return ["doStep is not allowed before exitInitializationMode"]
-    reasons = []
-    if not math.isfinite(inst.q):
-        reasons.append("Q")
+def step_refusal(inst: Instance, t: float, h: float) -> tuple[int, str] | None:
+    """How the contract refuses doStep(t, h) of a running instance: (status, the name its line
+    gives), the first reason in this order; None: the step must be taken. A step that cannot be
+    taken is discarded; a step past the stopTime is an error (FMI 2.0)."""
     if not abs(t - inst.time) <= 1e-9 * max(1.0, abs(inst.time)):
-        reasons.append("currentCommunicationPoint")
+        return DISCARD, "currentCommunicationPoint"
     if not h > 0.0:
-        reasons.append("communicationStepSize")
-    elif not t + h > inst.time:
-        reasons.append("currentCommunicationPoint + communicationStepSize")
-    elif inst.stop is not None and t + h > inst.stop + 1e-9 * max(1.0, abs(inst.stop)):
-        reasons.append("currentCommunicationPoint + communicationStepSize")
-    return reasons
+        return DISCARD, "communicationStepSize"
+    if not t + h > inst.time:
+        return DISCARD, "currentCommunicationPoint + communicationStepSize"
+    if inst.stop is not None and t + h > inst.stop + 1e-9 * max(1.0, abs(inst.stop)):
+        return ERROR, "stopTime"
+    if not math.isfinite(inst.q):
+        return DISCARD, "Q"
+    return None
 
 
 class WorkerDied(AssertionError):

@@ -1,6 +1,6 @@
 """The FMI calls of the stateful test as hypothesis rules: instances, initialization, stepping,
-refusals for good. Every answer is checked against the contract's model
-(:mod:`fmi_sequence_model`); the FMU states' rules are in ``test_fmi_stateful.py``.
+refusals with fmi2Error. Every answer is checked against the contract's model
+(:mod:`fmi_sequence_model`); the FMU states' rules are in ``test_fmi_sequences.py``.
 """
 from __future__ import annotations
 
@@ -17,7 +17,7 @@ from fmi_sequence_model import (
     Instance,
     invalid_names,
     mirror_model,
-    step_refusals,
+    step_refusal,
 )
 from hypothesis import event
 from hypothesis import strategies as st
@@ -83,12 +83,9 @@ class FmiRules(RuleBasedStateMachine):
 
     def expect(self, answer: dict, inst: Instance, status: int, names=()) -> None:
         """Status as the contract says. A refusal: exactly one log line, with the status's
-        category, saying what is not allowed and naming one of ``names``; otherwise no log line
-        (and none ever from a dead instance). Every line has a category of LogCategories."""
+        category, saying what is not allowed and naming one of ``names``; otherwise no log
+        line. Every line has a category of LogCategories."""
         assert all(entry[3] in LOG_CATEGORIES for entry in answer["log"]), answer
-        if inst.wild:
-            assert answer["status"] in (0, 1, 2, 3, 4), answer
-            return
         assert answer["status"] == status, (status, answer)
         assert all(entry[0] == inst.name for entry in answer["log"]), answer  # others quiet
         lines = [entry[2] for entry in answer["log"]]
@@ -99,14 +96,15 @@ class FmiRules(RuleBasedStateMachine):
         assert any(f"{n} = " in lines[0] or n in lines[0] for n in names), (names, answer)
         assert answer["log"][0][1:4:2] == [status, _CATEGORY[status]], answer
 
-    def refused_for_good(self, inst: Instance, answer: dict, names) -> None:
-        """A refusal that ends the instance (fmi2Error; quiet afterwards until reset)."""
-        if inst.phase == "dead":
-            self.expect(answer, inst, OK)
-        else:
-            self.expect(answer, inst, ERROR, names)
-            inst.phase, inst.mirror = "dead", None
-            event(f"error: {names[0]}")
+    def refused_with_error(self, inst: Instance, answer: dict, names) -> None:
+        """A call refused with fmi2Error naming one of ``names`` (the instance is then in error;
+        it changes nothing else); in error already, the short refusal of every call."""
+        if inst.phase == "error":
+            self.expect(answer, inst, ERROR, ["after an error"])
+            return
+        self.expect(answer, inst, ERROR, names)
+        inst.phase = "error"
+        event(f"error: {names[0]}")
 
     def check_outputs(self, inst: Instance, want: dict) -> None:
         reals = self.call(inst, "getReal", [self.vr[n] for n in REAL_OUTPUTS])
@@ -154,15 +152,24 @@ class FmiRules(RuleBasedStateMachine):
         inst = self.live[ident]
         for state in sorted(inst.states):
             self._free_state(state)
-        self.expect(self.call(inst, "terminate"), inst, OK)
+        self.terminate(ident)
         assert self.worker("free", id=ident)["status"] == OK
         del self.live[ident]
+
+    def terminate(self, ident):
+        """fmi2Terminate: taken while stepping, accepted after an error, else out of order."""
+        inst = self.live[ident]
+        answer = self.call(inst, "terminate")
+        if inst.phase in ("run", "error"):
+            self.expect(answer, inst, OK)
+            inst.phase = "terminated" if inst.phase == "run" else "error"
+        else:
+            self.refused_with_error(inst, answer, ["fmi2Terminate"])
 
     @rule(ident=instances)
     def reset(self, ident):
         inst = self.live[ident]
         answer = self.call(inst, "reset")
-        inst.wild = False
         self.expect(answer, inst, OK)
         inst.reset()
         inst.outputs = {n: 0.0 for n in REAL_OUTPUTS} | {n: 0 for n in MODES} | {n: False for n in FLAGS}
@@ -172,7 +179,7 @@ class FmiRules(RuleBasedStateMachine):
           length=st.sampled_from([None, 0.05, 1.0]))
     def setup(self, ident, start, length):
         inst = self.live[ident]
-        if inst.phase != "instantiated" or inst.wild:
+        if inst.phase != "instantiated":
             return
         stop = None if length is None else start + length
         self.expect(self.call(inst, "setupExperiment", None, start, stop), inst, OK)
@@ -181,7 +188,7 @@ class FmiRules(RuleBasedStateMachine):
     @rule(ident=instances)
     def enter_initialization(self, ident):
         inst = self.live[ident]
-        if inst.phase == "instantiated" and not inst.wild:
+        if inst.phase == "instantiated":
             self.expect(self.call(inst, "enterInitializationMode"), inst, OK)
             inst.phase = "init"
 
@@ -198,20 +205,20 @@ class FmiRules(RuleBasedStateMachine):
         if inst.phase in ("instantiated", "init"):
             self.expect(answer, inst, OK)
             inst.given[name] = value
-        else:   # a fixed parameter after initialization
-            self.refused_for_good(inst, answer, [name])
+        else:   # a fixed parameter after initialization, or in error
+            self.refused_with_error(inst, answer, [name])
 
     @rule(ident=instances)
     def exit_initialization(self, ident):
         inst = self.live[ident]
-        if inst.phase != "init" or inst.wild:
+        if inst.phase != "init":
             return
         answer = self.call(inst, "exitInitializationMode")
         bad = invalid_names(inst.given)
         if bad:
-            self.refused_for_good(inst, answer, sorted(bad))
+            self.refused_with_error(inst, answer, sorted(bad))
             solver = inst.given.get("solver", "")
-            if "solver" in bad and "%" in solver and not inst.wild:   # printf-safe logging
+            if "solver" in bad and "%" in solver:                    # printf-safe logging
                 assert any(f"solver = {solver!r}" in e[2] for e in answer["log"]), answer
         else:
             self.expect(answer, inst, OK)
@@ -222,7 +229,7 @@ class FmiRules(RuleBasedStateMachine):
         """setupExperiment, enter, valid parameters, exit: the usual way to a running FMU. Values
         set earlier stay, so the whole set may still be refused (exit_initialization knows)."""
         inst = self.live[ident]
-        if inst.phase != "instantiated" or inst.wild:
+        if inst.phase != "instantiated":
             return
         self.setup(ident, 0.0, stop)
         self.enter_initialization(ident)
@@ -235,7 +242,7 @@ class FmiRules(RuleBasedStateMachine):
 
     # Stepping ------------------------------------------------------------------------------
     def running(self) -> list[int]:
-        return sorted(i for i, inst in self.live.items() if inst.phase == "run" and not inst.wild)
+        return sorted(i for i, inst in self.live.items() if inst.phase == "run")
 
     @precondition(lambda self: self.running())
     @rule(data=st.data(), steps=st.lists(st.tuples(
@@ -250,19 +257,20 @@ class FmiRules(RuleBasedStateMachine):
     @rule(ident=instances, q=Q_VALUES, h=STEPS, offset=OFFSETS)
     def step(self, ident, q, h, offset):
         inst = self.live[ident]
-        self.expect(self.call(inst, "setReal", [self.vr["Q"]], [q]), inst, OK)
-        if inst.phase != "dead":
+        answer = self.call(inst, "setReal", [self.vr["Q"]], [q])
+        if inst.phase in ("instantiated", "init", "run"):
+            self.expect(answer, inst, OK)
             inst.q = q
+        else:                                          # after fmi2Terminate, or in error
+            self.refused_with_error(inst, answer, ["Q"])
         t = inst.time + offset * max(1.0, abs(inst.time))
         answer = self.call(inst, "doStep", t, h)
-        reasons = step_refusals(inst, t, h)
-        if inst.wild:
-            self.expect(answer, inst, OK)              # only survival is checked
-        elif inst.phase == "dead":
-            self.expect(answer, inst, DISCARD)
-        elif reasons:
-            self.expect(answer, inst, DISCARD, reasons)
-            event(f"discarded step: {reasons[0][:30]}")
+        refusal = step_refusal(inst, t, h) if inst.phase == "run" else (ERROR, "fmi2DoStep")
+        if refusal is not None and refusal[0] == ERROR:
+            self.refused_with_error(inst, answer, [refusal[1]])
+        elif refusal is not None:
+            self.expect(answer, inst, DISCARD, [refusal[1]])
+            event(f"discarded step: {refusal[1][:30]}")
         else:
             self.expect(answer, inst, OK)
             inst.time = t + h
@@ -275,5 +283,7 @@ class FmiRules(RuleBasedStateMachine):
     @rule(ident=instances)
     def get_outputs(self, ident):
         inst = self.live[ident]
-        if inst.phase != "dead" and not inst.wild:
+        if inst.phase != "error":
             self.check_outputs(inst, inst.outputs)
+        else:
+            self.refused_with_error(inst, self.call(inst, "getReal", [self.vr["v_pipe"]]), [])

@@ -25,6 +25,8 @@ CONTRACT_PARAMETERS = {
     "dx": ("m", 0.01, 0.0, None), "courant": ("1", 1.0, 0.0, 1.0),
     "x_monitor": ("m", 0.5, 0.0, None),
     "max_internal_steps": ("1", 1e8, 1.0, None),      # not in the contract: the project's own
+    "ram_mass": ("kg", 0.0, 0.0, None), "cushion_stiffness": ("N/m", 0.0, 0.0, None),
+    "cushion_restitution": ("1", 1.0, 0.0, 1.0),
 }
 CONTRACT_OPTIONS = {"contact_growth": ("Boolean", "false"), "elastic": ("Boolean", "false"),
                     "solver": ("String", "exact")}
@@ -35,6 +37,10 @@ CONTRACT_OUTPUTS = {"v_pipe": ("Real", "m/s"), "v_plug": ("Real", "m/s"), "u_pip
                     "W_friction_outer": ("Real", "J"), "W_friction_inner": ("Real", "J"),
                     "E_kinetic": ("Real", "J"), "E_strain": ("Real", "J"),
                     "W_numerical": ("Real", "J"),      # not in the contract: the project's own
+                    "F_head": ("Real", "N"), "v_ram": ("Real", "m/s"), "W_ram": ("Real", "J"),
+                    "W_cushion": ("Real", "J"),        # not in the contract: the project's own
+                    "E_transferred": ("Real", "J"), "stress_head": ("Real", "Pa"),
+                    "stress_min": ("Real", "Pa"), "stress_max": ("Real", "Pa"),
                     "at_rest": ("Boolean", None), "pipe_mode": ("Integer", None),
                     "plug_mode": ("Integer", None)}
 #: Output name -> name in pipeplug_references.closed_form.solution

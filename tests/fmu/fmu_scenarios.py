@@ -86,8 +86,7 @@ def bad_input(fmu_dir, kind, value=None):
         elif kind == "wrong_time":
             statuses["refused"] = bad.step(0.5, 0.005, 23e3)
         elif kind == "bad_state":
-            statuses["refused"] = bad.call("setFMUstate",
-                                           bad.fmu.deSerializeFMUstate(b"not a PipePlug state"))
+            statuses["refused"] = bad.call("deSerializeFMUstate", b"not a PipePlug state")
         elif kind == "unknown_get":
             statuses["refused"] = bad.call("getReal", [value])
         elif kind == "unknown_set":

@@ -69,8 +69,7 @@ def refusals(fmu_dir, kind, value=None):
         elif kind == "wrong_type":
             statuses["refused"] = bad.call("getReal", [bad.vars["count"].valueReference])
         elif kind == "bad_state":
-            statuses["refused"] = bad.call("setFMUstate",
-                                           bad.fmu.deSerializeFMUstate(b"not a Hammer state"))
+            statuses["refused"] = bad.call("deSerializeFMUstate", b"not a Hammer state")
     log_at_refusal = list(LOG)
     statuses["later_get"] = bad.call("getReal", [0])
     statuses["later_terminate"] = bad.call("terminate")

@@ -9,11 +9,14 @@ states taken, restored (into any instance), serialized and freed at any point (n
 after being freed), several instances at once.
 
 Checked: the host never dies; every refusal has the contract's status (fmi2Error at
-initialization, for a set after it and for an unknown reference; discard for a step) and
-exactly one log line naming the variable, with its status's category (every line has a category
-of LogCategories); an instance is quiet after its one error until fmi2Reset, then usable again;
-outputs equal those of the core model driven the same way (instances independent, restored
-states continue exactly); states round-trip exactly through serialization.
+initialization, for a set after it, for an unknown reference, for a call out of the FMI 2.0
+call sequence and for a step past the stopTime; discard for a step that cannot be taken) and
+exactly one log line naming the variable or call, with its status's category (every line has a
+category of LogCategories); after an fmi2Error every call but fmi2SetFMUstate, fmi2Reset,
+fmi2Terminate, fmi2FreeInstance (and fmi2FreeFMUstate) is refused with one short line until a
+state is set or the instance reset; outputs equal those of the core model driven the same way
+(instances independent, restored states continue exactly); states round-trip exactly through
+serialization.
 """
 from __future__ import annotations
 
@@ -22,7 +25,14 @@ from fmi_sequence_model import OK, Worker
 from fmi_sequence_rules import INSTANCES, Q_VALUES, STATES, WORKER, FmiRules
 from hypothesis import HealthCheck, event, settings
 from hypothesis import strategies as st
-from hypothesis.stateful import consumes, invariant, precondition, rule, run_state_machine_as_test
+from hypothesis.stateful import (
+    consumes,
+    invariant,
+    multiple,
+    precondition,
+    rule,
+    run_state_machine_as_test,
+)
 
 
 class FmiCalls(FmiRules):
@@ -30,9 +40,9 @@ class FmiCalls(FmiRules):
 
     instances, states = INSTANCES, STATES
 
-    # Refusals for good -----------------------------------------------------------------------
+    # Refusals with fmi2Error ---------------------------------------------------------------------
     @rule(ident=instances, data=st.data())
-    def refuse_for_good(self, ident, data):
+    def refuse_with_error(self, ident, data):
         """An unknown value reference read, or something set that cannot be set (rarely)."""
         inst = self.live[ident]
         if data.draw(st.integers(0, 3)):
@@ -50,13 +60,16 @@ class FmiCalls(FmiRules):
         else:
             answer = self.call(inst, "setReal", [self.vr[target]], [data.draw(Q_VALUES)])
             name = target
-        self.refused_for_good(inst, answer, [name])
+        self.refused_with_error(inst, answer, [name])
 
     # FMU states ----------------------------------------------------------------------------
     @rule(target=states, ident=instances)
     def get_state(self, ident):
         inst = self.live[ident]
         answer = self.worker("get_state", id=ident)
+        if inst.phase == "error":
+            self.refused_with_error(inst, answer, [])
+            return multiple()
         assert answer["status"] == OK and answer["log"] == [], answer
         state = answer["value"]
         self.owner[state], self.snaps[state] = ident, inst.snapshot()
@@ -68,29 +81,27 @@ class FmiCalls(FmiRules):
         if state not in self.snaps:
             return                                        # freed: never used again
         inst, snap = self.live[ident], self.snaps[state]
-        answer = self.worker("set_state", id=ident, state=state)
-        if inst.phase == "dead" and not inst.wild:
-            self.expect(answer, inst, OK)
-        elif snap["kind"] == "dead" and not inst.wild:
-            self.refused_for_good(inst, answer, ["FMUstate"])
-        elif snap["kind"] == "wild" or inst.wild:
-            inst.wild = True
-            self.expect(answer, inst, OK)
-        else:
-            self.expect(answer, inst, OK)
-            inst.restore(snap)
-            if inst.phase == "run":
-                self.check_outputs(inst, inst.outputs)   # the saved outputs, exactly
-            event(f"state restored: {snap['kind']}")
+        answer = self.worker("set_state", id=ident, state=state)   # also in error: it ends it
+        self.expect(answer, inst, OK)
+        inst.restore(snap)
+        self.check_outputs(inst, inst.outputs)           # the saved outputs, exactly
+        event(f"state restored: {snap['kind']}")
 
     @rule(target=states, ident=instances, state=states)
     def serialize_and_back(self, ident, state):
         """Serialize through the state's owner, deserialize through any instance."""
         if state not in self.snaps:
             return state                                  # freed: never used again
-        blob = self.worker("serialize", id=self.owner[state], state=state)
+        owner, inst = self.live[self.owner[state]], self.live[ident]
+        blob = self.worker("serialize", id=owner.ident, state=state)
+        if owner.phase == "error":
+            self.refused_with_error(owner, blob, [])
+            return multiple()
         assert blob["status"] == OK and blob["log"] == [], blob
         answer = self.worker("deserialize", id=ident, hex=blob["value"])
+        if inst.phase == "error":
+            self.refused_with_error(inst, answer, [])
+            return multiple()
         assert answer["status"] == OK and answer["log"] == [], answer
         new = answer["value"]
         self.owner[new], self.snaps[new] = ident, self.snaps[state]
@@ -112,15 +123,16 @@ class FmiCalls(FmiRules):
         for q, h, offset in steps:
             self.step(ident, q, h, offset)
             first.append(dict(self.live[ident].outputs))
-        copy = self.serialize_and_back(target, saved)
+        if "error" in (self.live[ident].phase, self.live[target].phase):
+            target, copy = ident, saved             # no serialization in error: set it as it is
+        else:
+            copy = self.serialize_and_back(target, saved)
         self.set_state(target, copy)
         inst = self.live[target]
-        if inst.phase != "run" or inst.wild:
-            return                                  # a dead target stays dead, quietly
         for (q, h, offset), want in zip(steps, first):
             self.step(target, q, h, offset)
             assert inst.outputs == want             # and equal to the mirror (checked)
-        for state in (saved, copy):
+        for state in {saved, copy}:
             self._free_state(state)
 
     @rule(state=consumes(states))
@@ -132,20 +144,19 @@ class FmiCalls(FmiRules):
         ["exitInitializationMode", "enterInitializationMode", "setupExperiment", "terminate"]),
         now=st.integers(0, 2))
     def call_out_of_order(self, ident, method, now):
+        """A call the FMI 2.0 call sequence does not allow now: fmi2Error naming it, nothing
+        changed (fmi2Terminate after an error is accepted)."""
         inst = self.live[ident]
         if now:
             return                                          # rarely
         legal = {"instantiated": {"setupExperiment", "enterInitializationMode"},
-                 "init": {"exitInitializationMode"}}.get(inst.phase, set())
+                 "init": {"exitInitializationMode"}, "run": {"terminate"},
+                 "error": {"terminate"}}.get(inst.phase, set())
         if method in legal:
             return
         args = [None, 0.0, None] if method == "setupExperiment" else []
-        answer = self.call(inst, method, *args)
-        if inst.phase == "dead":
-            self.expect(answer, inst, OK)
-        else:
-            inst.wild = True
-            self.expect(answer, inst, OK)
+        self.refused_with_error(inst, self.call(inst, method, *args), ["fmi2" + method[0].upper()
+                                                                       + method[1:]])
 
     @invariant()
     def host_alive(self):

@@ -19,9 +19,12 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from ..jit import jitable
 
-__all__ = ["NONE", "CONSTANT", "GROWING", "outer_contact_for", "limit", "segment", "work"]
+__all__ = ["NONE", "CONSTANT", "GROWING", "outer_contact_for", "limit", "segment", "work",
+           "contact_length"]
 
 #: kinds of law (floats: a law is a tuple of floats)
 NONE, CONSTANT, GROWING = 0.0, 1.0, 2.0
@@ -43,6 +46,17 @@ def limit(law, U):
     if kind == GROWING:
         return k * min(max(U, 0.0), L1)
     return 0.0
+
+
+@jitable
+def contact_length(law, U):
+    """The length of pipe in contact with the soil [m] at position(s) ``U`` [m]."""
+    kind, _, _, L1 = law
+    if kind == CONSTANT:
+        return L1 + 0.0 * U
+    if kind == GROWING:
+        return np.minimum(np.maximum(U, 0.0), L1)
+    return 0.0 * U
 
 
 @jitable

@@ -39,6 +39,7 @@ from ..contact import coulomb
 from ..jit import jitable
 
 __all__ = ["free_cells", "soil_cells", "plug_cells", "plug_soil_cells", "sums", "limit", "drift",
+           "drift_extremes", "extremes",
            "track", "soil_start", "soil_weight", "moving_end", "next_end", "share", "window",
            "joint_share", "accumulate", "SCRATCH_ROWS"]
 
@@ -303,6 +304,27 @@ def drift(v, N, b, end):
     Only the faces of the cells before ``end`` (the faces beyond lie between cells at rest)."""
     for f in range(1, min(end + 1, v.shape[0])):
         N[f] += b * (v[f] - v[f - 1])
+
+
+@jitable
+def drift_extremes(v, N, b, end, low, high):
+    """:func:`drift`, and the smallest and largest of ``low``, ``high`` and the new forces
+    [N] (the faces beyond ``end`` keep theirs, which the caller has counted)."""
+    for f in range(1, min(end + 1, v.shape[0])):
+        value = N[f] + b * (v[f] - v[f - 1])
+        N[f] = value
+        low = min(low, value)
+        high = max(high, value)
+    return low, high
+
+
+@jitable
+def extremes(N, low, high):
+    """The smallest and largest of ``low``, ``high`` and the forces ``N`` [N]."""
+    for f in range(N.shape[0]):
+        low = min(low, N[f])
+        high = max(high, N[f])
+    return low, high
 
 
 @jitable

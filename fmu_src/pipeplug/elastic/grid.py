@@ -13,7 +13,8 @@ from typing import NamedTuple
 import numpy as np
 
 from ..params import ParameterError
-from .kernels import C1, C2, DX, K1, K2, M1, M2, N_COEF
+from .head import stable_cushion
+from .kernels import C1, C2, DX, K1, K2, K_LOAD, K_UNLOAD, M1, M2, N_COEF, RAM_MASS
 
 __all__ = ["Section", "Grid", "build_grid", "cell_count"]
 
@@ -74,8 +75,33 @@ def build_grid(params) -> Grid:
     if n2:
         coef[M2], coef[K2], coef[C2] = p.rho2 * p.S2 * dx, p.E2 * p.S2 / dx, p.P2 * p.tau2 * dx
         speed = max(speed, p.c2)
+    h_max = p.courant * dx / speed
+    if p.has_ram:
+        _ram_coefficients(p, coef, h_max)
     pipe = _section(p.x_monitor, n1, dx)
     plug = _section(p.x_monitor - (p.L1 - p.L2), n2, dx) if n2 else Section(0, 0, 0.0, 0)
     cells1 = np.array([n1 - 1, pipe.a, pipe.b], dtype=np.int64)
     cells2 = np.array([plug.a, plug.b] if n2 else [], dtype=np.int64)
-    return Grid(n1, n2, p.tau1 > 0.0, coef, p.courant * dx / speed, pipe, plug, cells1, cells2)
+    return Grid(n1, n2, p.tau1 > 0.0, coef, h_max, pipe, plug, cells1, cells2)
+
+
+def _ram_coefficients(p, coef, h_max: float) -> None:
+    """The ram's mass and its cushion's stiffnesses (:mod:`pipeplug.elastic.head`: a direct
+    strike unloads with one cell's stiffness), refused when the internal step cannot carry them
+    stably (naming what to change)."""
+    e2 = p.cushion_restitution ** 2
+    load = p.cushion_stiffness if p.cushion_stiffness > 0.0 else e2 * coef[K1]
+    unload = load / e2
+    largest = stable_cushion(unload, p.ram_mass, coef[M1], coef[K1], h_max)
+    # a direct strike at Courant 1 sits exactly on the bound (the head cell is then like any
+    # interior cell); the margin keeps round-off of the two sides from refusing it
+    if not unload <= largest * (1.0 + 1e-12):
+        if p.cushion_stiffness > 0.0:
+            raise ParameterError("cushion_stiffness", p.cushion_stiffness,
+                                 f"at most {largest * e2:.6g} N/m with this ram, restitution "
+                                 f"and dx (its unloading stiffness / e^2 must stay below the "
+                                 f"internal step's limit; a finer dx allows more)")
+        raise ParameterError("ram_mass", p.ram_mass,
+                             f">= {unload / (2.0 / h_max ** 2):.6g} kg for a direct strike with "
+                             f"this dx (half a cell's mass; a finer dx allows lighter rams)")
+    coef[RAM_MASS], coef[K_LOAD], coef[K_UNLOAD] = p.ram_mass, load, unload

@@ -36,6 +36,8 @@ from .cells import (
     SCRATCH_ROWS,
     accumulate,
     drift,
+    drift_extremes,
+    extremes,
     free_cells,
     limit,
     moving_end,
@@ -47,13 +49,15 @@ from .cells import (
     sums,
     track,
 )
+from .head import ram_step
 
 __all__ = ["KERNELS"]
 
 # coef: cell mass [kg] and cell stiffness E S / dx [N/m] of pipe and plug, friction limits
-# per full cell P tau dx [N] of the soil and plug contacts, grid step [m].
-M1, K1, M2, K2, C1, C2, DX = range(7)
-N_COEF = 7
+# per full cell P tau dx [N] of the soil and plug contacts, grid step [m]; the ram's mass [kg]
+# (0: no ram) and its cushion's loading and unloading stiffness [N/m].
+M1, K1, M2, K2, C1, C2, DX, RAM_MASS, K_LOAD, K_UNLOAD = range(10)
+N_COEF = 10
 # acc: W_input [J], friction work at the soil and at the plug contact [J] (each the sum of
 # acc[i] and its rounding error acc[i + COMPENSATION]); the last step's soil and plug friction
 # forces on the pipe along +x [N]; the number of steps that took back a share of a projection
@@ -61,18 +65,50 @@ N_COEF = 7
 W_IN, W_OUTER, W_INNER, F_OUT, F_IN = range(5)
 COMPENSATION = 5
 LIMITED = 8
-N_ACC = 9
+# With a ram (coef[RAM_MASS] > 0): the work done on the cushion [J] and its rounding error; the
+# ram's state from RAM (pipeplug.elastic.head.ram_step: velocity, compression, largest
+# compression, force, transferred work and its error). Every model: the smallest and largest
+# axial force [N] of the pipe's faces during the current communication step.
+W_CUSHION, W_CUSHION_ERROR = 9, 10
+RAM = 11
+N_MIN, N_MAX = 17, 18
+W_RAM = 19                # the energy strikes brought [J] (pipeplug.elastic.model.strike)
+N_ACC = 20
+
+
+@jitable
+def start_step(q, N1, coef, acc):
+    """The head force of a call's first step, ``-(q + F)`` with the cushion's force ``F`` (0
+    without a ram), written ``0 - ...`` for +0.0 under no load, as a fresh model holds it;
+    and the pipe's axial forces now counted in the extremes of the communication step."""
+    N1[0] = 0.0 - (q + acc[RAM + 3]) if coef[RAM_MASS] > 0.0 else 0.0 - q
+    acc[N_MIN], acc[N_MAX] = extremes(N1, acc[N_MIN], acc[N_MAX])
 
 
 @jitable
 def _finish_step(q, dt, v_first_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc, end):
     """Add the input work of the step [J]; then drift the forces of the pipe cells before
-    ``end`` and of the plug cells coupled to them, and the displacements."""
+    ``end`` (keeping their extremes) and of the plug cells coupled to them, the
+    displacements, and the ram with its cushion (one branch per step, none per cell)."""
     _add_work(acc, W_IN, 0.5 * q * dt * (v_first_old + v1[0]))
-    drift(v1, N1, coef[K1] * dt, end)
+    acc[N_MIN], acc[N_MAX] = drift_extremes(v1, N1, coef[K1] * dt, end, acc[N_MIN], acc[N_MAX])
     drift(v2, N2, coef[K2] * dt, end - (v1.shape[0] - v2.shape[0]))
     track(u1, cells1, v1, dt)
     track(u2, cells2, v2, dt)
+    if coef[RAM_MASS] > 0.0:
+        finish_ram(q, dt, v_first_old, v1[0], N1, coef, acc)
+
+
+@jitable
+def finish_ram(q, dt, v_head_old, v_head, N1, coef, acc):
+    """The ram and its cushion after the pipe's step (:func:`pipeplug.elastic.head.ram_step`;
+    the head cell's velocity went from ``v_head_old`` to ``v_head`` [m/s]): the head force of
+    the next step, counted in the extremes."""
+    head = ram_step(q, dt, v_head_old, v_head, coef[RAM_MASS], coef[K_LOAD],
+                    coef[K_UNLOAD], acc[RAM:RAM + 6], acc, W_CUSHION, W_CUSHION_ERROR)
+    N1[0] = 0.0 - head
+    acc[N_MIN] = min(acc[N_MIN], N1[0])
+    acc[N_MAX] = max(acc[N_MAX], N1[0])
 
 
 @jitable
@@ -130,7 +166,7 @@ def _plug_soil_step(dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc, st
 @jitable
 def run_pipe(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
     """Pipe alone, no friction."""
-    N1[0] = 0.0 - q         # +0.0 under no load, as a fresh model holds it
+    start_step(q, N1, coef, acc)
     for _ in range(n):
         v_old = v1[0]
         free_cells(v1, N1, 0, v1.shape[0], dt / coef[M1])
@@ -143,7 +179,7 @@ def run_pipe(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
 @jitable
 def run_pipe_soil(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
     """Pipe on the soil over its whole length."""
-    N1[0] = 0.0 - q         # +0.0 under no load, as a fresh model holds it
+    start_step(q, N1, coef, acc)
     n1 = v1.shape[0]
     end = moved = n1
     s = _scratch(v1)
@@ -157,7 +193,7 @@ def run_pipe_soil(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
 @jitable
 def run_pipe_soil_growth(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
     """Pipe on the soil over the penetrated length."""
-    N1[0] = 0.0 - q         # +0.0 under no load, as a fresh model holds it
+    start_step(q, N1, coef, acc)
     n1 = v1.shape[0]
     end = moved = n1
     s = _scratch(v1)
@@ -172,7 +208,7 @@ def run_pipe_soil_growth(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2,
 @jitable
 def run_pipe_plug(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
     """Pipe and plug, no soil friction."""
-    N1[0] = 0.0 - q         # +0.0 under no load, as a fresh model holds it
+    start_step(q, N1, coef, acc)
     n1 = v1.shape[0]
     j0 = n1 - v2.shape[0]
     s = _scratch(v1)
@@ -195,7 +231,7 @@ def run_pipe_plug(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
 @jitable
 def run_pipe_plug_soil(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
     """Pipe, plug and soil over the whole pipe length."""
-    N1[0] = 0.0 - q         # +0.0 under no load, as a fresh model holds it
+    start_step(q, N1, coef, acc)
     n1 = v1.shape[0]
     end = moved = both = n1
     s = _scratch(v1)
@@ -209,7 +245,7 @@ def run_pipe_plug_soil(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, a
 @jitable
 def run_pipe_plug_soil_growth(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
     """Pipe, plug and soil over the penetrated length."""
-    N1[0] = 0.0 - q         # +0.0 under no load, as a fresh model holds it
+    start_step(q, N1, coef, acc)
     n1 = v1.shape[0]
     end = moved = both = n1
     s = _scratch(v1)

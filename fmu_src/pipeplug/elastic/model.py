@@ -57,19 +57,28 @@ from .. import jit
 from ..interface import ModelBase, Outputs
 from ..params import ParameterError
 from .grid import Section, build_grid
+from .head import cushion_energy, start_strike
 from .kernels import (
     COMPENSATION,
     F_IN,
     F_OUT,
     K1,
     K2,
+    K_UNLOAD,
     KERNELS,
     M1,
     M2,
     N_ACC,
+    N_MAX,
+    N_MIN,
+    RAM,
+    RAM_MASS,
+    W_CUSHION,
+    W_CUSHION_ERROR,
     W_IN,
     W_INNER,
     W_OUTER,
+    W_RAM,
 )
 from .vectorised import VECTORISED
 
@@ -94,6 +103,7 @@ class Clock:
     def __init__(self, h: float):
         self.h = h
         self.origin = 0.0      #: the first step's start [s]
+        self.started = False   #: the origin is fixed (the time was set once)
         self.k = 0             #: grid points stepped
         self.pending = 0.0     #: [N s]
         self.pending_load = 0.0  #: [N], NaN for a mixed impulse
@@ -174,8 +184,11 @@ class ElasticModel(ModelBase):
     @time.setter
     def time(self, value: float) -> None:
         clock = self.clock
-        if clock.k == 0 and clock.pending == 0.0:
-            clock.origin = value          # the grid starts where the first step starts
+        if not clock.started:
+            # The grid starts where the first step starts, and stays there: a grid that
+            # followed the time while nothing happened would differ between host grids
+            # once a strike at the start acts.
+            clock.origin, clock.started = value, True
         clock.time = value
 
     def steps_for(self, h: float) -> int:
@@ -191,16 +204,52 @@ class ElasticModel(ModelBase):
         n = k_end - clock.k
         if n and not (q == 0.0 and clock.pending == 0.0 and self.at_rest()):
             self._check_count(n, h)
+            self.acc[N_MIN], self.acc[N_MAX] = math.inf, -math.inf
             self._steps(1, clock.first_load(q))
             if n > 1:
                 self._steps(n - 1, q)
             mode = self._monitor_modes()
             if not self._modes or self._modes[-1] != mode:
                 self._modes.append(mode)
+        elif n:
+            self._rest_for(n)
         if n:
             clock.time = max(clock.time, clock.point(k_end))
             clock.passed(k_end)
         clock.hold(q, t_end)
+
+    def _rest_for(self, n: int) -> None:
+        """``n`` internal steps at rest: the forces hold; a ram leaving the head flies on
+        (its compression shrinks at its velocity, which nothing changes)."""
+        acc = self.acc
+        acc[N_MIN], acc[N_MAX] = float(self.N1.min()), float(self.N1.max())
+        if acc[RAM]:
+            acc[RAM + 1] += n * self.clock.h * acc[RAM]
+
+    def strike(self, velocity: float) -> None:
+        """Start a strike now: the ram at the head, touching an unloaded cushion, moving at
+        ``velocity`` [m/s] (it acts from the next internal step, within h_max).
+
+        Raises
+        ------
+        ParameterError
+            Without a ram (``ram_mass = 0``) or for a velocity that is not finite.
+        """
+        if not self.params.has_ram:
+            raise ParameterError("strikes", "an increase", "none without a ram (ram_mass > 0)")
+        if not math.isfinite(velocity):
+            raise ParameterError("v_strike", velocity, "finite [m/s]")
+        acc, mass = self.acc, self.grid.coef[RAM_MASS]
+        # The ram's kinetic energy is replaced; what the cushion still held is lost with it.
+        acc[W_RAM] += 0.5 * mass * (velocity * velocity - acc[RAM] ** 2)
+        start_strike(acc[RAM:RAM + 6], float(velocity))
+        self._rest = None
+
+    def _cushion_energy(self) -> float:
+        """The cushion's recoverable energy now [J] (0 without a ram)."""
+        acc = self.acc
+        return cushion_energy(acc[RAM + 3], acc[RAM], self.v1[0], self.grid.coef[K_UNLOAD],
+                              self.clock.h) if acc[RAM + 3] else 0.0
 
     def _check_count(self, n: int, h: float) -> None:
         """Refuse a communication step of more than ``max_internal_steps`` internal steps."""
@@ -229,10 +278,19 @@ class ElasticModel(ModelBase):
             u_plug = (1.0 - g.plug.w) * self.u2[0] + g.plug.w * self.u2[1]
         outer, inner = _work(acc, W_OUTER), _work(acc, W_INNER)
         kinetic, strain = self.energies()
+        w_input = _work(acc, W_IN)
+        area = self.params.S1
+        if self.params.has_ram:
+            ram = (float(acc[RAM]), float(acc[W_RAM]),
+                   float(acc[W_CUSHION] + acc[W_CUSHION_ERROR]) - self._cushion_energy(),
+                   float(acc[RAM + 4] + acc[RAM + 5]))
+        else:
+            ram = (0.0, 0.0, 0.0, w_input)
         return Outputs(float(v_pipe), float(v_plug), float(u_pipe), float(u_plug),
-                       float(acc[F_OUT]), float(acc[F_IN]), _work(acc, W_IN), outer + inner,
-                       outer, inner, kinetic, strain, 0.0, self.at_rest(),
-                       *self._monitor_modes())
+                       float(acc[F_OUT]), float(acc[F_IN]), w_input, outer + inner,
+                       outer, inner, kinetic, strain, 0.0, float(-self.N1[0]), *ram,
+                       float(self.N1[0]) / area, float(acc[N_MIN]) / area,
+                       float(acc[N_MAX]) / area, self.at_rest(), *self._monitor_modes())
 
     def _monitor_modes(self) -> tuple[int, int]:
         """(pipe_mode, plug_mode) at the cell of x_monitor (and its plug cell)."""
@@ -249,34 +307,55 @@ class ElasticModel(ModelBase):
 
     def at_rest(self) -> bool:
         """No impulse pending, every cell still, and one more internal step under Q = 0 leaves
-        every field, work and force unchanged, bit for bit."""
+        every field, work and force unchanged, bit for bit; a ram is off the head and not
+        coming back (no cushion force, not moving forward: nothing it does reaches the
+        pipe, whose head is still)."""
         if self._rest is None:
-            self._rest = (not self.v1.any() and not self.v2.any()
+            self._rest = (not self.v1.any() and not self.v2.any() and self._ram_gone()
                           and self._trial_step_keeps_the_state())
         return self._rest and self.clock.pending == 0.0
 
+    def _ram_gone(self) -> bool:
+        acc = self.acc
+        return acc[RAM + 3] == 0.0 and acc[RAM] <= 0.0
+
     def _trial_step_keeps_the_state(self) -> bool:
-        """Take one step under Q = 0 on copies of the fields and compare the bits."""
+        """Take one step under Q = 0 on copies of the fields and compare the bits (but the
+        flight of a ram gone, :meth:`_rest_for`)."""
         g = self.grid
         before = [getattr(self, name) for name in _FIELDS]
         after = [field.copy() for field in before]
         v1, N1, v2, N2, u1, u2, acc = after
         self._kernel(1, self.clock.h, 0.0, g.coef, v1, N1, v2, N2, g.cells1, u1, g.cells2, u2,
                      acc)
+        acc[RAM + 1] = self.acc[RAM + 1]
         return all(a.tobytes() == b.tobytes() for a, b in zip(before, after))
 
     def energies(self) -> tuple[float, float]:
         """The scheme's kinetic and strain energy at the last grid point [J] (module docstring),
-        both >= 0; ``W_input = kinetic + strain + W_friction`` to round-off."""
-        c, h = self.grid.coef, self.clock.h
+        both >= 0, with the ram's kinetic energy and the cushion's recoverable energy
+        (:mod:`pipeplug.elastic.head`, split as a face of the rods: the cross term of its
+        modified energy in the kinetic part); ``W_input + W_ram = kinetic + strain +
+        W_friction + W_cushion`` to round-off."""
+        c, h, acc = self.grid.coef, self.clock.h, self.acc
         pipe = _rod_energies(self.v1, self.N1, c[M1], c[K1], h)
         plug = _rod_energies(self.v2, self.N2, c[M2], c[K2], h)
-        return pipe[0] + plug[0], pipe[1] + plug[1]
+        kinetic, strain = pipe[0] + plug[0], pipe[1] + plug[1]
+        if self.params.has_ram:
+            kinetic += 0.5 * c[RAM_MASS] * acc[RAM] ** 2
+            force = acc[RAM + 3]
+            if force:
+                closing = acc[RAM] - self.v1[0]
+                kinetic -= 0.125 * c[K_UNLOAD] * h * h * closing * closing
+                at_step = force - 0.5 * c[K_UNLOAD] * h * closing
+                strain += at_step * at_step / (2.0 * c[K_UNLOAD])
+        return float(kinetic), float(strain)
 
     def get_state(self) -> dict:
         """A copy of the whole state: clock, fields, tracked displacements, works."""
         clock = self.clock
-        state = {"time": clock.time, "origin": clock.origin, "k": clock.k,
+        state = {"time": clock.time, "origin": clock.origin, "started": clock.started,
+                 "k": clock.k,
                  "pending": clock.pending, "pending_load": clock.pending_load}
         state.update({name: getattr(self, name).copy() for name in _FIELDS})
         state["modes"] = np.array(self._modes, dtype=np.int64).reshape(-1, 2)
@@ -295,6 +374,7 @@ class ElasticModel(ModelBase):
         self._modes = [tuple(map(int, row)) for row in np.asarray(state["modes"]).reshape(-1, 2)]
         clock = self.clock
         clock.time, clock.origin = float(state["time"]), float(state["origin"])
+        clock.started = bool(state["started"])
         clock.k, clock.pending = int(state["k"]), float(state["pending"])
         clock.pending_load = float(state["pending_load"])
 

@@ -32,9 +32,14 @@ from .kernels import (
     LIMITED,
     M1,
     M2,
+    N_MAX,
+    N_MIN,
+    RAM_MASS,
     W_IN,
     W_INNER,
     W_OUTER,
+    finish_ram,
+    start_step,
 )
 
 __all__ = ["VECTORISED"]
@@ -231,12 +236,13 @@ def _loop(variant):
     in order, and whether the rods have soil friction and a plug.
     """
     def kernel(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
-        N1[0] = 0.0 - q         # +0.0 under no load, as a fresh model holds it
+        start_step(q, N1, coef, acc)
         rods = [_Rod(v1, N1, cells1, u1, coef[K1] * dt, dt)]
         if v2.size:
             rods.append(_Rod(v2, N2, cells2, u2, coef[K2] * dt, dt))
         parts, friction = variant(v1, N1, v2, N2, u1, coef, dt)
         half_impulse = 0.5 * q * dt
+        ram = coef[RAM_MASS] > 0.0
         for _ in range(n):
             v_first = v1[0]
             for part in parts:
@@ -246,6 +252,12 @@ def _loop(variant):
             accumulate(acc, W_IN, W_IN + COMPENSATION, half_impulse * (v_first + v1[0]))
             for rod in rods:
                 rod.drift()
+            inner = N1[1:-1]
+            if inner.size:
+                acc[N_MIN] = min(acc[N_MIN], inner.min())
+                acc[N_MAX] = max(acc[N_MAX], inner.max())
+            if ram:
+                finish_ram(q, dt, v_first, v1[0], N1, coef, acc)
         if friction:
             acc[F_OUT] = _sum_of_totals(part.f1 for part in parts) / dt
             acc[F_IN] = _sum_of_totals(part.f2 for part in parts) / dt

@@ -13,48 +13,79 @@ Exact solution for a rectangular pulse: the closed form of model I, domains I-V.
 
 Energy: W_input = kinetic energy + W_friction holds to round-off.
 
+A ram (``ram_mass > 0``) strikes the head through a cushion or directly (:meth:`RigidExact.strike`);
+its pieces are closed-form too (:mod:`pipeplug.rigid.ram`) for model I (constant soil friction,
+or none), and with W_ram and the cushion's energy the ledger still closes to round-off. Model II
+with a ram (``contact_growth`` with ``tau1 > 0``) is refused when the model is built
+(:func:`pipeplug.build_model`): the growing friction and the cushion make two coupled
+frequencies, not in closed form.
+
 The solver is one source of functions over two records (:mod:`pipeplug.rigid.record`,
 :mod:`pipeplug.rigid.stepping`), run compiled by numba when it is available (cached on disk,
 :mod:`pipeplug.jit`) or as plain Python; both give the same numbers.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .. import jit
 from ..interface import OUTPUT_NAMES, ModelBase, Outputs
-from . import stepping
+from ..params import ParameterError
+from . import ramstep, stepping
 from .record import (
+    D0,
+    DMAX,
     END,
     ERROR,
+    EXT_T,
     HORIZON,
     KICK,
+    KICK1,
     LOGGED,
     MODE,
+    N_HIGH,
+    N_LOW,
     P_M1,
     P_M2,
+    RAM_ON,
+    STEPPING,
     T0,
     TIME,
     U1,
     U2,
     V1,
     V2,
+    VR,
+    VSCALE,
+    W_CUSH,
     W_IN,
     W_INNER,
     W_OUTER,
+    W_RAM,
+    ZW,
     Q,
     as_array,
     parameter_record,
     state_record,
 )
 
-__all__ = ["RigidExact", "KERNELS"]
+__all__ = ["RigidExact", "KERNELS", "RAM_KERNELS"]
 
 #: the entry points of the solver (compiled together when numba is used)
 KERNELS = (stepping.step_to, stepping.start_piece, stepping.sample_into, stepping.outputs_at)
+#: those of a model with a ram, and its strike
+RAM_KERNELS = (ramstep.ram_step_to, ramstep.ram_start_piece, ramstep.ram_sample_into,
+               ramstep.ram_outputs_at, ramstep.strike)
 _STATE_KEYS = ("time", "t0", "U1", "V1", "U2", "V2", "W_in", "W_outer", "W_inner", "Q", "kick",
                "horizon")
 _STATE_SLOTS = (TIME, T0, U1, V1, U2, V2, W_IN, W_OUTER, W_INNER, Q, KICK, HORIZON)
+#: the ram's part of the state (models with a ram): its origin values and the last step's
+#: extremes of the axial force
+_RAM_KEYS = ("ram_on", "delta", "v_ram", "delta_max", "W_ram", "W_cushion", "v_scale", "kick1",
+             "zeno_w", "n_low", "n_high")
+_RAM_SLOTS = (RAM_ON, D0, VR, DMAX, W_RAM, W_CUSH, VSCALE, KICK1, ZW, N_LOW, N_HIGH)
 
 
 _FRESH_LIST = state_record()           # a fresh model's state, as each path holds it
@@ -63,13 +94,15 @@ _LOG_SIZE = 64                          # mode codes the solver logs between two
 _PATHS: dict = {}                       # compiled (bool) -> the entry points to run
 
 
-def _kernels(compiled: bool) -> tuple:
-    """The solver's entry points: compiled when asked and numba is available (imported
-    now), else :data:`KERNELS` themselves."""
-    if compiled not in _PATHS:
-        fns = tuple(jit.compiled(f) for f in KERNELS) if compiled else KERNELS
-        _PATHS[compiled] = KERNELS if all(a is b for a, b in zip(fns, KERNELS)) else fns
-    return _PATHS[compiled]
+def _kernels(compiled: bool, ram: bool = False) -> tuple:
+    """The solver's entry points (:data:`RAM_KERNELS` with a ``ram``): compiled when asked
+    and numba is available (imported now), else the plain functions themselves."""
+    key = (compiled, ram)
+    if key not in _PATHS:
+        plain = RAM_KERNELS if ram else KERNELS
+        fns = tuple(jit.compiled(f) for f in plain) if compiled else plain
+        _PATHS[key] = plain if all(a is b for a, b in zip(fns, plain)) else fns
+    return _PATHS[key]
 
 
 def _floats(values) -> np.ndarray:
@@ -95,13 +128,16 @@ class RigidExact(ModelBase):
     def __init__(self, params, options, compiled: bool = True):
         par = parameter_record(params, options.contact_growth)
         self.M1, self.M2 = par[P_M1], par[P_M2]     # [kg]; M2 = 0 without a plug
-        fns = _kernels(compiled)
-        self.compiled = fns is not KERNELS          #: True when running compiled code
+        self.has_ram = bool(params.has_ram)          #: a ram strikes the head (strike())
+        fns = _kernels(compiled, self.has_ram)
+        self.compiled = fns not in (KERNELS, RAM_KERNELS)   #: True when running compiled code
         self._par = as_array(par) if self.compiled else par
         self._st = _FRESH.copy() if self.compiled else list(_FRESH_LIST)
         self._log = np.zeros(_LOG_SIZE) if self.compiled else [0.0] * _LOG_SIZE
         self._modes: list[tuple[int, int]] = []     # taken from the log; see modes()
-        (self._step, self._start, self._sample, self._outputs) = fns
+        (self._step, self._start, self._sample, self._outputs) = fns[:4]
+        self._strike = fns[4] if self.has_ram else None
+        self._rest = ramstep.ram_at_rest if self.has_ram else stepping.at_rest
 
     @property
     def time(self) -> float:
@@ -179,11 +215,28 @@ class RigidExact(ModelBase):
     def outputs(self) -> Outputs:
         """The contract's outputs at the current time."""
         out = self._outputs(self._st, self._par, self._st[TIME])
-        return Outputs._make((*out[:13], out[13] != 0.0, int(out[14]), int(out[15])))
+        return Outputs._make((*out[:21], out[21] != 0.0, int(out[22]), int(out[23])))
 
     def at_rest(self) -> bool:
-        """Both bodies stuck with no load: a step under Q = 0 changes nothing but the time."""
-        return bool(stepping.at_rest(self._st))
+        """Both bodies stuck with no load (and a ram off the head, not coming back): a step
+        under Q = 0 changes no output."""
+        return bool(self._rest(self._st))
+
+    def strike(self, velocity: float) -> None:
+        """Start a strike now: the ram at the head, touching an unloaded cushion, moving at
+        ``velocity`` [m/s] (a direct strike faster than the head hits it at once).
+
+        Raises
+        ------
+        ParameterError
+            Without a ram (``ram_mass = 0``) or for a velocity that is not finite.
+        """
+        if not self.has_ram:
+            raise ParameterError("strikes", "an increase", "none without a ram (ram_mass > 0)")
+        if not math.isfinite(velocity):
+            raise ParameterError("v_strike", velocity, "finite [m/s]")
+        self._take_log()                # room for the strike's piece
+        self._strike(self._st, self._par, self._log, float(velocity))
 
     def modes(self) -> tuple[tuple[int, int], ...]:
         """Every piece's contact modes (pipe_mode, plug_mode) in order, repeats merged."""
@@ -195,6 +248,8 @@ class RigidExact(ModelBase):
         modes gone through."""
         state = {k: float(self._st[i]) for k, i in zip(_STATE_KEYS, _STATE_SLOTS)}
         state["kick"] = int(state["kick"])
+        if self.has_ram:
+            state.update({k: float(self._st[i]) for k, i in zip(_RAM_KEYS, _RAM_SLOTS)})
         state["modes"] = np.array(self.modes(), dtype=np.int64).reshape(-1, 2)
         return state
 
@@ -205,6 +260,10 @@ class RigidExact(ModelBase):
         self._modes = [(int(s1), int(s2))
                        for s1, s2 in np.asarray(state["modes"]).reshape(-1, 2)]
         st = self._st
+        if self.has_ram:                # the ram's origin values, read by the piece's start
+            for k, i in zip(_RAM_KEYS, _RAM_SLOTS):
+                st[i] = float(state[k])
+            st[STEPPING], st[EXT_T] = 0.0, time
         st[LOGGED] = 0.0               # the log continues from the restored modes
         st[MODE] = stepping.mode_code(*self._modes[-1]) if self._modes else -1.0
         self._start(st, self._par, self._log, t0, u1, v1, u2, v2, w_in, w_outer, w_inner, q,

@@ -24,14 +24,15 @@ import math
 import numpy as np
 
 from ..contact.coulomb import SLACK, one_contact, two_contacts
-from ..contact.outer import limit, outer_contact_for
+from ..contact.outer import contact_length, limit, outer_contact_for
 from ..interface import ModelBase, Outputs
 from ..params import ParameterError
+from .stress import axial_extremes
 
 __all__ = ["RigidFd", "internal_steps"]
 
 _STATE_KEYS = ("time", "U1", "V1", "U2", "V2", "W_in", "W_outer", "W_inner", "W_num", "f1", "f2",
-               "s1", "s2", "p_max")
+               "s1", "s2", "p_max", "q")
 # Velocities carry round-off of the largest momentum the run has seen: a trial momentum within
 # this share of it from a friction limit sticks (else a body whose load equals its limit
 # slides on forever at 1e-13 m/s after a grazing stop).
@@ -56,6 +57,8 @@ class RigidFd(ModelBase):
 
     def __init__(self, params, options):
         self.M1, self.M2, self.F2 = params.M1, params.M2, params.F2
+        self.L1, self.S1 = params.L1, params.S1
+        self.L2 = params.L2 if params.has_plug else 0.0
         self.dt_max = params.dt
         self._max_steps = params.max_internal_steps
         self.outer = outer_contact_for(params.P1, params.L1, params.tau1, options.contact_growth)
@@ -116,7 +119,7 @@ class RigidFd(ModelBase):
         s["W_in"] += q * tau * v1
         s["W_outer"] -= p1 * v1
         s["W_inner"] -= p2 * (v1 - v2)
-        s["f1"], s["f2"], s["s1"], s["s2"] = p1 / tau, p2 / tau, s1, s2
+        s["f1"], s["f2"], s["s1"], s["s2"], s["q"] = p1 / tau, p2 / tau, s1, s2, q
         if not self._modes or self._modes[-1] != (s1, s2):
             self._modes.append((s1, s2))
 
@@ -124,9 +127,14 @@ class RigidFd(ModelBase):
         """The contract's outputs (velocities: the last step's (U^{n+1} - U^n)/tau)."""
         s = self._s
         kinetic = 0.5 * (self.M1 * s["V1"] ** 2 + self.M2 * s["V2"] ** 2)
+        q = s["q"]
+        low, high = axial_extremes(q, s["f1"], s["f2"], self.L1,
+                                   contact_length(self.outer, s["U1"]), self.L2)
         return Outputs(s["V1"], s["V2"], s["U1"], s["U2"], s["f1"], s["f2"], s["W_in"],
                        s["W_outer"] + s["W_inner"], s["W_outer"], s["W_inner"], kinetic, 0.0,
-                       s["W_num"], self.at_rest(), int(s["s1"]), int(s["s2"]))
+                       s["W_num"], q, 0.0, 0.0, 0.0, s["W_in"], -q / self.S1,
+                       float(low) / self.S1, float(high) / self.S1, self.at_rest(),
+                       int(s["s1"]), int(s["s2"]))
 
     def modes(self) -> tuple[tuple[int, int], ...]:
         """Every internal step's contact modes (pipe_mode, plug_mode), repeats merged."""

@@ -32,13 +32,14 @@ import numpy as np
 from ..jit import jitable
 
 __all__ = ["motion", "travel", "state", "acceleration_at", "time_to_rest", "time_to_position",
-           "refine_root", "ulp", "POSITION", "RELATIVE_VELOCITY"]
+           "refine_root", "ulp", "line_and_sine", "POSITION", "RELATIVE_VELOCITY",
+           "LINE_AND_SINE"]
 
 _INF = math.inf
 
-#: what :func:`refine_root` zeroes: the position minus a target, or the velocity minus that of
-#: a uniformly accelerated second body
-POSITION, RELATIVE_VELOCITY = 0, 1
+#: what :func:`refine_root` zeroes: the position minus a target, the velocity minus that of
+#: a uniformly accelerated second body, or a line plus a sinusoid (:func:`line_and_sine`)
+POSITION, RELATIVE_VELOCITY, LINE_AND_SINE = 0, 1, 2
 
 
 @jitable
@@ -201,11 +202,26 @@ def _first_quadratic_root(a, b, c, t_max):
 
 
 @jitable
+def line_and_sine(c, t):
+    """``f(t) = c0 + c1 t + c2 (1 - cos(w t)) + c3 sin(w t) / w`` and its time derivative at
+    ``t`` [s], for ``c = (c0, c1, c2, c3, w)``, ``w > 0`` [1/s] (the rigid models' quantities
+    while a ram presses a cushion: a uniform acceleration plus an oscillation)."""
+    c0, c1, c2, c3, w = c
+    x = w * t
+    half = math.sin(0.5 * x)
+    f = c0 + c1 * t + c2 * (2.0 * half * half) + c3 * t * _sin_over_x(x)
+    return f, c1 + c2 * w * math.sin(x) + c3 * math.cos(x)
+
+
+@jitable
 def _g(kind, m, target, V2, a2, t):
     """The function whose root :func:`refine_root` finds, at ``t`` [s]: U(t) - target [m]
-    (``kind`` POSITION), or V(t) - (V2 + a2 t) [m/s] (RELATIVE_VELOCITY)."""
+    (``kind`` POSITION), V(t) - (V2 + a2 t) [m/s] (RELATIVE_VELOCITY), or
+    :func:`line_and_sine` of the coefficients ``m`` (LINE_AND_SINE)."""
     if kind == POSITION:
         return state(m, t)[0] - target
+    if kind == LINE_AND_SINE:
+        return line_and_sine(m, t)[0]
     return travel(m, t)[1] - (V2 + a2 * t)
 
 
@@ -214,6 +230,8 @@ def _dg(kind, m, target, V2, a2, t):
     """Time derivative of :func:`_g`."""
     if kind == POSITION:
         return state(m, t)[1]
+    if kind == LINE_AND_SINE:
+        return line_and_sine(m, t)[1]
     return acceleration_at(m, state(m, t)[0]) - a2
 
 

@@ -21,9 +21,14 @@ __all__ = ["parameter_record", "state_record", "reset_state", "as_array", "N_PAR
 
 # Constants: pipe mass M1 [kg]; plug mass M2 [kg] and its friction limit F2 = P2 L2 tau2 [N]
 # (both 0 without a plug); 1.0 when the plug is coupled; the outer law (kind, F1 [N],
-# k [N/m], L1 [m]) in four places from P_LAW.
+# k [N/m], L1 [m]) in four places from P_LAW; the wall's section S1 [m2] and the coupled plug's
+# length L2 [m] (0 without a plug), for the axial stress.
 P_M1, P_M2, P_F2, P_COUPLED, P_LAW = range(5)
-N_PAR = P_LAW + 4
+P_S1, P_L2 = P_LAW + 4, P_LAW + 5
+# The ram (:mod:`pipeplug.rigid.ram`): its mass [kg] (0: no ram), the cushion's loading and
+# unloading stiffness k and k / e^2 [N/m] (0: a direct strike) and e^2 [1]; e [1].
+P_RAM_M, P_K, P_KU, P_E2, P_E = range(P_L2 + 1, P_L2 + 6)
+N_PAR = P_E + 1
 
 # State. TIME: the model's time [s]. The piece: its start T0 [s] and force Q [N] (nan before
 # the first step), its origin U1, V1, U2, V2 [m, m/s], contact modes S1, S2 (-1, 0, 1) and KIND
@@ -39,7 +44,20 @@ N_PAR = P_LAW + 4
 (TIME, T0, Q, U1, V1, U2, V2, S1, S2, KIND, A1, K1, W1, A2, K2, W2, FORCE0, KAPPA, END, FS1,
  FS2, W_IN, W_OUTER, W_INNER, KICK, HORIZON, T_EVENT, T_SNAP, SEARCHED, LABELS, MODE, LOGGED,
  ERROR) = range(33)
-N_STATE = ERROR + 1
+# The ram (only models with a ram use these; :mod:`pipeplug.rigid.ram`). At the piece's origin:
+# RAM_ON (1.0 once struck), the cushion's compression D0 [m] (the ram's displacement less the
+# head's since the strike), the ram's velocity VR [m/s], the largest compression DMAX [m], the
+# strikes' energy W_RAM [J] and the cushion's loss W_CUSH [J] before the piece, VSCALE [m/s]
+# (the fastest direct impact since the strike), KICK1 (the pipe's breakaway direction) and ZW
+# [m/s] (the closing velocity of the direct impact the piece starts with; 0: none). The piece:
+# RAM its kind (ram.NONE ...), the compression's motion DV, DA, DK, DW (as a motion of
+# :mod:`~pipeplug.rigid.motion` from D0), RHO the pipe's share of it (0: the pipe does not feel
+# it), DB [m] and KB [N/m] of the cushion's branch (F = KB (delta - DB)), FC0 [N] its force at
+# the origin, ZT [s] the length of a Zeno piece. The communication step: its extremes of the
+# axial force N_LOW, N_HIGH [N], taken up to EXT_T [s]; STEPPING 1.0 while a step is under way.
+(RAM_ON, D0, VR, DMAX, W_RAM, W_CUSH, VSCALE, KICK1, ZW, RAM, DV, DA, DK, DW, RHO, DB, KB, FC0,
+ ZT, N_LOW, N_HIGH, EXT_T, STEPPING) = range(ERROR + 1, ERROR + 24)
+N_STATE = STEPPING + 1
 
 
 def parameter_record(params, growth: bool) -> list:
@@ -50,7 +68,11 @@ def parameter_record(params, growth: bool) -> list:
     """
     coupled = params.has_plug
     law = outer_contact_for(params.P1, params.L1, params.tau1, growth)
-    return [params.M1, coupled * params.M2, coupled * params.F2, coupled * 1.0, *law]
+    e = params.cushion_restitution
+    k = params.cushion_stiffness
+    return [params.M1, coupled * params.M2, coupled * params.F2, coupled * 1.0, *law,
+            params.S1 + 0.0 * params.L1, coupled * params.L2, params.ram_mass, k, k / (e * e),
+            e * e, e]
 
 
 def state_record() -> list:

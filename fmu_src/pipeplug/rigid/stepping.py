@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 
+from ..contact.outer import contact_length
 from ..jit import compiled_form, jitable
 from .motion import acceleration_at, travel, ulp
 from .pieces import (
@@ -29,6 +30,7 @@ from .pieces import (
     forces_of,
     friction_work_of,
     kinematics,
+    law_of,
     make_piece,
     pipe_of,
     plug_of,
@@ -43,9 +45,11 @@ from .record import (
     LOGGED,
     MODE,
     P_COUPLED,
+    P_L2,
     P_LAW,
     P_M1,
     P_M2,
+    P_S1,
     S1,
     S2,
     SEARCHED,
@@ -61,6 +65,7 @@ from .record import (
     W_OUTER,
     Q,
 )
+from .stress import axial_extremes
 
 __all__ = ["OK", "TOO_MANY_EVENTS", "SEGMENT_MISSED", "LOAD_NOT_FINITE", "LOG_FULL",
            "MAX_EVENTS_PER_STEP", "step_to", "start_piece", "sample_into", "outputs_at",
@@ -274,17 +279,24 @@ def at_rest(st):
 
 @jitable
 def outputs_at(st, par, t):
-    """The 16 outputs of :data:`pipeplug.interface.OUTPUTS` at absolute time(s) ``t`` [s]
+    """The 24 outputs of :data:`pipeplug.interface.OUTPUTS` at absolute time(s) ``t`` [s]
     inside the current piece (floats; at_rest and the modes as 0.0/1.0 and -1.0/0.0/1.0).
-    Rigid bodies store no strain energy, and the exact solution dissipates nothing but
-    friction work."""
+    Rigid bodies store no strain energy, the exact solution dissipates nothing but friction
+    work, and no ram strikes (a model with a ram runs :mod:`~pipeplug.rigid.ramstep`): the head
+    force is Q, its work the input work, and the axial
+    stresses are those of the rigid pipe's equilibrium (:mod:`pipeplug.rigid.stress`)."""
     u1, v1, u2, v2, w_in, w_outer, w_inner = values_at(st, par, t)
     f1, f2 = forces_of(st, par, u1)
     zero = 0.0 * u1                                   # (arrays for dense output)
     rest = (1.0 if at_rest(st) else 0.0) + zero
     kinetic = 0.5 * (par[P_M1] * v1 * v1 + par[P_M2] * v2 * v2)
+    q = (st[Q] if st[Q] == st[Q] else 0.0) + zero      # nan before the first step
+    low, high = axial_extremes(q, f1, f2, par[P_LAW + 3], contact_length(law_of(par), u1),
+                               par[P_L2])
+    area = par[P_S1]
     return (v1, v2, u1, u2, f1, f2, w_in, w_outer + w_inner, w_outer, w_inner, kinetic, zero,
-            zero, rest, st[S1] + zero, st[S2] + zero)
+            zero, q, zero, zero, zero, w_in, -q / area, low / area, high / area, rest,
+            st[S1] + zero, st[S2] + zero)
 
 
 @jitable(inline=True)
@@ -297,7 +309,7 @@ def _kinematics_at(st, par, t):
 def sample_into(st, par, log, loads, times, table, first):
     """Dense output: advance through ``times[first:]`` [s] under the struck-end force
     ``loads[j]`` [N] over the interval ending at ``times[j]``, writing the outputs at
-    ``times[j]`` into ``table[:, j]``: all of :data:`pipeplug.interface.OUTPUTS` (16 rows) or
+    ``times[j]`` into ``table[:, j]``: all of :data:`pipeplug.interface.OUTPUTS` (24 rows) or
     the kinematics alone (their first four); modes logged as by :func:`step_to`.
 
     Each piece is evaluated for all the sample times it covers at once, so a long record costs
@@ -373,7 +385,9 @@ def _fill_loop(st, par, times, lo, hi, table):
     for j in range(lo, hi):
         (table[0, j], table[1, j], table[2, j], table[3, j], table[4, j], table[5, j],
          table[6, j], table[7, j], table[8, j], table[9, j], table[10, j], table[11, j],
-         table[12, j], table[13, j], table[14, j], table[15, j]) = outputs_at(st, par, times[j])
+         table[12, j], table[13, j], table[14, j], table[15, j], table[16, j], table[17, j],
+         table[18, j], table[19, j], table[20, j], table[21, j], table[22, j],
+         table[23, j]) = outputs_at(st, par, times[j])
 
 
 @compiled_form(_fill_loop)

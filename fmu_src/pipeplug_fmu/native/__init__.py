@@ -1,4 +1,7 @@
-"""The FMUs' linux64 binary: a small loader in front of pythonfmu's (see ``loader.c``).
+"""The FMUs' linux64 binary: a small loader in front of pythonfmu's (see ``loader.c``; the other
+sources are its parts: ``python.c`` finds a Python, ``inner.c`` loads pythonfmu's binary and
+guards its exit, ``resources.c`` checks the resource folder, ``states.c`` the FMU states,
+``text.c`` holds text helpers).
 
 It is compiled at build time, once per FMU with its model identifier as a compile-time define,
 with the C compiler of the ``ziglang`` package (``python -m ziglang cc``), for the oldest glibc
@@ -12,9 +15,9 @@ import subprocess
 import sys
 from pathlib import Path
 
-__all__ = ["INNER_NAME", "SOURCE", "TARGET", "compile_loader", "inner_name"]
+__all__ = ["INNER_NAME", "SOURCES", "TARGET", "compile_loader", "inner_name"]
 
-SOURCE = Path(__file__).resolve().with_name("loader.c")
+SOURCES = tuple(sorted(Path(__file__).resolve().parent.glob("*.c")))   # with loader.h
 TARGET = "x86_64-linux-gnu.2.17"           # zig target: x86-64 Linux, glibc >= 2.17
 # nodelete: the loader stays mapped after a host unloads it, like pythonfmu's binary (which
 # glibc never unloads), so the exit handler it registers stays valid until the process exits.
@@ -32,7 +35,7 @@ INNER_NAME = inner_name("PipePlug")        # PipePlug.fmu's
 
 
 def compile_loader(dest: Path, model_identifier: str = "PipePlug") -> Path:
-    """Compile ``loader.c`` for the FMU ``model_identifier`` into the shared library ``dest``.
+    """Compile the loader's sources for the FMU ``model_identifier`` into the shared library ``dest``.
 
     Returns ``dest``. Raises ValueError for an identifier that is not a C identifier, and
     RuntimeError with the compiler's messages when compiling fails.
@@ -40,7 +43,7 @@ def compile_loader(dest: Path, model_identifier: str = "PipePlug") -> Path:
     if not _IDENTIFIER.fullmatch(model_identifier):
         raise ValueError(f"model identifier {model_identifier!r} is not a C identifier")
     cmd = [sys.executable, "-m", "ziglang", "cc", *_FLAGS, f"-DMODEL_IDENTIFIER={model_identifier}",
-           "-target", TARGET, "-o", str(dest), str(SOURCE)]
+           "-target", TARGET, "-o", str(dest), *map(str, SOURCES)]
     proc = subprocess.run(cmd, capture_output=True, text=True, check=False)
     if proc.returncode != 0:
         raise RuntimeError(f"compiling the FMU's loader failed ({' '.join(cmd)}):\n"

@@ -17,7 +17,11 @@ it is run on. Domains drawn (SI units):
   (or the force that moves the pipe at 1 m/s through its impedance, without friction), one in
   ten a pull; every blow edge on the grid of internal steps ``h = courant dx / c_fastest``
   (computed here by the contract's formulas, not by the core), followed by 0-3 of the blows'
-  periods of ringing.
+  periods of ringing;
+* a ram for 40 % of the cases: 0.05-20 pipe masses (at least 1.5 cells), striking directly or
+  through a cushion of 1e-3-1 times a cell's stiffness (within the internal step's limit), with
+  restitution 0.5-1 (1 for a third); 70 % of its blows are strikes at 0.5-10 m/s instead of a
+  force (a strike starts at the blow's start).
 
 Grids (all end at the stop time and hold every blow edge and the common sample times, which
 are grid points): ``multiples`` (steps of 1-40 internal steps), ``random`` (random points, most
@@ -62,6 +66,7 @@ class ElasticCase:
     grids: dict
     host_h: float
     checks: tuple = ("core",)
+    strikes: tuple = ()           #: (time [s], ram velocity [m/s]) of each strike
     note: str = field(default="", compare=False)
     kind: str = "elastic"
 
@@ -101,13 +106,45 @@ def generate_elastic(seed: int, index: int, plan: Plan = _PLAN) -> ElasticCase:
     if "reference" in checks and rng.random() < 0.5:
         params.update(tau1=0.0, tau2=0.0, courant=1.0)     # a free rod: the exact reference
     h = internal_step(params)
+    ram = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index, 4)))
+    params.update(_ram(ram, params, h))
     edges, loads, stop = _blows(rng, params, h)
+    strikes = ()
+    if params["ram_mass"] > 0.0:
+        edges, loads, strikes = _strikes(ram, edges, loads)
     steps = round(stop / h)
     samples = tuple(sorted({float(k * h) for k in rng.integers(1, steps + 1, 4)} | {stop}))
     grids = _grids(rng, h, steps, edges, samples)
     host_h = stop / int(rng.integers(20, 300))
     return ElasticCase(seed, index, bool(rng.random() < 0.5), params, edges, loads, stop,
-                       samples, grids, host_h, checks)
+                       samples, grids, host_h, checks, strikes=strikes)
+
+
+def _ram(rng, params: dict, h: float) -> dict:
+    """The ram's parameters (module docstring; none for 60 % of the cases)."""
+    if rng.random() >= 0.4:
+        return dict(ram_mass=0.0, cushion_stiffness=0.0, cushion_restitution=1.0)
+    p = params
+    S1 = math.pi * ((p["R1"] + p["h1"]) ** 2 - p["R1"] ** 2)
+    cell_mass, cell_stiffness = p["rho1"] * S1 * p["dx"], p["E1"] * S1 / p["dx"]
+    mass = max(_log(rng, 0.05, 20.0) * cell_mass * round(p["L1"] / p["dx"]), 1.5 * cell_mass)
+    e = 1.0 if rng.random() < 1 / 3 else float(rng.uniform(0.5, 1.0))
+    stiffness = 0.0
+    if rng.random() < 0.5:
+        # the leapfrog's limit at the head (Gershgorin: ram row and first cell row)
+        largest = min(2.0 * mass, 2.0 * cell_mass - cell_stiffness * h * h) / (h * h)
+        stiffness = min(_log(rng, 1e-3, 1.0) * cell_stiffness, 0.9 * largest) * e * e
+    return dict(ram_mass=mass, cushion_stiffness=stiffness, cushion_restitution=e)
+
+
+def _strikes(rng, edges, loads):
+    """Turn 70 % of the blows into strikes (the force of the blow 0, a strike at its start)."""
+    loads, strikes = list(loads), []
+    for k in range(0, len(edges), 2):
+        if rng.random() < 0.7:
+            loads[k] = 0.0
+            strikes.append((edges[k], _log(rng, 0.5, 10.0)))
+    return edges, tuple(loads), tuple(strikes)
 
 
 def _log(rng, low: float, high: float) -> float:
@@ -191,5 +228,6 @@ def elastic_from_json(data: dict) -> ElasticCase:
     data = dict(data)
     for key in ("edges", "loads", "samples", "checks"):
         data[key] = tuple(data[key])
+    data["strikes"] = tuple(tuple(float(x) for x in s) for s in data.get("strikes", ()))
     data["grids"] = {k: tuple(float(t) for t in v) for k, v in data["grids"].items()}
     return ElasticCase(**data)

@@ -29,7 +29,9 @@ __all__ = ["run_chunk", "AT_REST"]
 #: the outputs of a rigid model at rest under Q = 0 (the batch API reports the others): no
 #: motion, no energy stored, none dissipated by the exact solution's numerics
 AT_REST = {"v_pipe": 0.0, "v_plug": 0.0, "F_outer": 0.0, "F_inner": 0.0, "E_kinetic": 0.0,
-           "E_strain": 0.0, "W_numerical": 0.0, "at_rest": True, "pipe_mode": 0, "plug_mode": 0}
+           "E_strain": 0.0, "W_numerical": 0.0, "F_head": 0.0, "v_ram": 0.0, "W_ram": 0.0,
+           "W_cushion": 0.0, "stress_head": 0.0, "stress_min": 0.0, "stress_max": 0.0,
+           "at_rest": True, "pipe_mode": 0, "plug_mode": 0}
 #: result columns taken as the batch API gives them
 _GIVEN = ("u_pipe", "u_plug", "W_input", "W_friction_outer", "W_friction_inner", "t_end")
 _PARAMS = frozenset(p.name for p in PARAMETERS)
@@ -56,6 +58,7 @@ def run_chunk(spec, c: int) -> pa.Table:
     columns = {"case": np.arange(start, stop, dtype=np.int64), **varied,
                **{k: out[k] for k in _GIVEN},
                "W_friction": out["W_friction_outer"] + out["W_friction_inner"],
+               "E_transferred": out["W_input"],                # no ram: Q's own work
                **{k: np.full(n, v) for k, v in AT_REST.items()},
                "error": pa.repeat("", n)}
     table = pa.table(columns, schema=schema(spec))

@@ -142,3 +142,24 @@ def test_cells_outside_the_soil_keep_a_momentum_below_the_slack(vectorised):
     after = m1 * model.v1 + m2 * model.v2
     assert np.allclose(after, before, rtol=1e-12, atol=0.0)
     assert np.all(model.v1 == model.v2)               # stuck together, not to the soil
+
+
+@pytest.mark.parametrize("changes, growth, kernel", [
+    (dict(tau1=0.0, tau2=0.0, ram_mass=50.0), False, "run_pipe"),
+    (dict(tau1=7e4, tau2=3.5e4, L2=0.6, ram_mass=50.0, cushion_stiffness=2e8,
+          cushion_restitution=0.7), True, "run_pipe_plug_soil_growth"),
+])
+def test_strikes_give_the_compiled_bits(changes, growth, kernel):
+    """The ram and its cushion step the same on both paths (strikes on a moving pipe too)."""
+    compiled, numpy = _model(changes, growth, False), _model(changes, growth, True)
+    assert compiled.kernel_name == kernel
+    h = 3 * compiled.grid.h_max
+    for i in range(400):
+        for model in (compiled, numpy):
+            if i % 100 == 0:
+                model.strike(4.0 + i / 100)
+            model.advance(1000.0 if i % 100 < 10 else 0.0, h)
+        if i % 50 == 0:
+            for name in FIELDS:
+                assert getattr(numpy, name).tobytes() == getattr(compiled, name).tobytes(), name
+    assert numpy.outputs() == compiled.outputs() and compiled.outputs().W_ram > 0.0

@@ -1,0 +1,94 @@
+"""The struck end of the elastic pipe when a ram strikes it: the ram and its cushion.
+
+The ram is a rigid mass ``m`` [kg] moving along the pipe's axis; between it and the pipe's head
+is a cushion, a spring that pushes but never pulls, loaded along ``k`` [N/m] and unloaded along
+the stiffer ``k / e^2`` (Smith's convention; ``e`` the coefficient of restitution), reloading
+along the unloading line up to the largest compression reached::
+
+    F(delta) = max(0, min(k delta, k delta_max - (k / e^2) (delta_max - delta)))
+
+``delta`` [m] is the cushion's compression (the ram's displacement minus the head's). A direct
+strike, steel on steel, has the head's own contact stiffness: ``k = e^2 E1 S1 / dx``, so that
+its unloading stiffness is that of one cell of the pipe (the direct strike's exact limit is
+reached as dx -> 0; its reference F(t) = Z v0 exp(-Z t / m) is for a rigid ram on a long rod).
+
+On the staggered grid the ram is one more node ahead of the pipe's first cell and the cushion
+one more face: each internal step the ram takes the kick ``-F h / m``, the head face carries
+``-(Q + F)``, and after the pipe's cells have moved the compression drifts with the relative
+velocity ``delta += h (v_ram - v_head)`` and the force follows the law above. The ram is stable
+with the pipe when ``h^2`` times the largest stiffness per mass at the head stays within the
+leapfrog's limit (:func:`stable_cushion`, checked when the model is built).
+
+Energy: the cushion holds the recoverable energy of its unloading line, in the scheme's form
+``R = F (F - (k / e^2) h (v_ram - v_head)) / (2 k / e^2)``; the work done on it (the force times
+the step's mean compression rate) less ``R`` is its loss, ``W_cushion``: 0 along the unloading
+line, ``(1 - e^2)`` of the work on the loading line. With the ram's kinetic energy in
+``E_kinetic`` and ``R`` in ``E_strain``, ``W_input + W_ram = E_kinetic + E_strain + W_friction +
+W_cushion`` (a strike resets the cushion: what it still held counts as lost). Where the
+cushion opens within a step (its force would turn to a pull) the step's force is cut to 0, and
+the scheme's energy then takes back up to ``k h^2 dv^2 / 2`` (dv the closing velocity): its
+loss can fall that much at a separation (``1/2 m_cell dv^2`` for a direct strike, first order in
+dx; second order in the step for a cushion).
+"""
+from __future__ import annotations
+
+from ..jit import jitable
+from .cells import accumulate
+
+__all__ = ["cushion_force", "ram_step", "start_strike", "stable_cushion", "cushion_energy"]
+
+
+@jitable
+def cushion_force(delta, delta_max, k, k_unload):
+    """The cushion's force [N] at compression ``delta`` [m] after the largest ``delta_max``."""
+    return max(0.0, min(k * delta, k * delta_max - k_unload * (delta_max - delta)))
+
+
+@jitable
+def ram_step(q, dt, v_head_old, v_head, mass, k, k_unload, ram, acc, work_index, compensation):
+    """One internal step of ram and cushion after the pipe's (``v_head_old`` -> ``v_head``
+    [m/s], the first cell's velocity, moved by the head force ``-(q + F)``).
+
+    ``ram`` holds [velocity m/s, compression m, largest compression m, force N of the step
+    ahead, transferred work J, its rounding error]; ``acc[work_index]`` the work done on the
+    cushion [J] (compensated sum, its error at ``compensation``). Returns the head force of the
+    next step, ``q + F`` [N].
+    """
+    force = ram[3]
+    v_old = ram[0]
+    v_new = v_old - dt * force / mass
+    ram[0] = v_new
+    accumulate(acc, work_index, compensation,
+               0.5 * dt * force * ((v_old - v_head_old) + (v_new - v_head)))
+    accumulate(ram, 4, 5, 0.5 * dt * (q + force) * (v_head_old + v_head))
+    delta = ram[1] + dt * (v_new - v_head)
+    ram[1] = delta
+    ram[2] = max(ram[2], delta)
+    ram[3] = cushion_force(delta, ram[2], k, k_unload)
+    return q + ram[3]
+
+
+@jitable
+def start_strike(ram, velocity):
+    """Put the ram at the head, touching an unloaded cushion, with ``velocity`` [m/s]."""
+    ram[0] = velocity
+    ram[1] = 0.0
+    ram[2] = 0.0
+    ram[3] = 0.0
+
+
+def cushion_energy(force, v_ram, v_head, k_unload, dt):
+    """The recoverable energy of the cushion [J] in the scheme's form (module docstring)."""
+    if force == 0.0:
+        return 0.0
+    return force * (force - k_unload * dt * (v_ram - v_head)) / (2.0 * k_unload)
+
+
+def stable_cushion(k_unload, ram_mass, cell_mass, cell_stiffness, dt) -> float:
+    """The largest unloading stiffness [N/m] the leapfrog step ``dt`` [s] takes at the head:
+    Gershgorin's bound of the stiffness per mass of the ram's row and of the first cell's row
+    (``cell_stiffness = E1 S1 / dx`` [N/m]) within ``4 / dt^2``."""
+    limit = 4.0 / (dt * dt)
+    from_ram = 0.5 * limit * ram_mass
+    from_cell = 0.5 * limit * cell_mass - cell_stiffness
+    return min(from_ram, from_cell)

@@ -1,0 +1,388 @@
+"""The exact solver's event loop for a model with a ram: strikes, stepping, outputs.
+
+The functions of :mod:`~pipeplug.rigid.stepping` with the ram's pieces and events
+(:mod:`~pipeplug.rigid.ram`): a model with ``ram_mass > 0`` runs these, one without runs those
+(unchanged). Before its first strike a model with a ram moves exactly as one without.
+
+Outputs of a model with a ram: ``E_kinetic`` holds the ram's kinetic energy, ``E_strain`` the
+cushion's recoverable energy, ``W_cushion`` its loss; ``W_input + W_ram = E_kinetic + E_strain +
+W_friction + W_cushion``. ``F_head`` is Q plus the cushion's force (or the force of a ram riding
+on the head); a direct impact is an impulse, whose force has no finite value: it moves the
+velocities, not ``F_head``. ``E_transferred``, the work of ``F_head`` on the head, is by the
+energy balance of ram and cushion ``W_input + W_ram`` less the ram's kinetic energy, the
+cushion's stored energy and its loss. ``stress_min`` and ``stress_max`` are the extremes over the
+last communication step (the force of the cushion peaks inside a step): the axial force of the
+rigid pipe (:mod:`~pipeplug.rigid.stress`) is affine in the cushion's compression at any time
+of a piece, so its extremes lie at the ends of each piece's share of the step or where the
+compression turns (closed form).
+"""
+from __future__ import annotations
+
+import math
+
+from ..contact.outer import contact_length
+from ..jit import jitable
+from .pieces import (
+    AT_REST,
+    BREAKAWAY_NEG,
+    BREAKAWAY_POS,
+    PIPE_REST,
+    PLUG_REST,
+    STICK,
+    friction_work_of,
+    law_of,
+)
+from .ram import (
+    ACCUMULATE,
+    CONTACT,
+    FREE,
+    LOAD_END,
+    NONE,
+    PIPE_GO_NEG,
+    PIPE_GO_POS,
+    RELOAD,
+    RIDING,
+    SEPARATE,
+    find_ram_event,
+    impact,
+    make_ram_piece,
+    ram_forces,
+    ram_state,
+    travels,
+)
+from .record import (
+    D0,
+    DA,
+    DB,
+    DK,
+    DMAX,
+    DV,
+    DW,
+    EXT_T,
+    HORIZON,
+    KICK,
+    KICK1,
+    KIND,
+    LABELS,
+    LOGGED,
+    N_HIGH,
+    N_LOW,
+    P_COUPLED,
+    P_K,
+    P_KU,
+    P_L2,
+    P_LAW,
+    P_M1,
+    P_M2,
+    P_RAM_M,
+    P_S1,
+    RAM,
+    RAM_ON,
+    S1,
+    S2,
+    SEARCHED,
+    STEPPING,
+    T0,
+    T_EVENT,
+    T_SNAP,
+    TIME,
+    U1,
+    U2,
+    VR,
+    VSCALE,
+    W_CUSH,
+    W_IN,
+    W_INNER,
+    W_OUTER,
+    W_RAM,
+    ZW,
+    Q,
+)
+from .stepping import (
+    LOAD_NOT_FINITE,
+    LOG_FULL,
+    MAX_EVENTS_PER_STEP,
+    OK,
+    TOO_MANY_EVENTS,
+    log_mode,
+)
+from .stress import axial_extremes
+
+__all__ = ["ram_step_to", "ram_start_piece", "ram_sample_into", "ram_outputs_at", "strike",
+           "ram_at_rest", "values_at"]
+
+_EVENT_SNAP = 1e-13          # as in stepping: an event this close after a step end is taken
+
+
+@jitable
+def values_at(st, par, t):
+    """``(U1, V1, U2, V2, W_input, W_outer, W_inner)`` [m, m/s, J] at absolute time ``t`` [s]
+    inside the current piece (:func:`pipeplug.rigid.stepping.values_at` with the ram)."""
+    d1, v1, d2, v2 = travels(st, par, t - st[T0])
+    outer, inner = friction_work_of(st, par, d1, d2)
+    q = st[Q]
+    w_in = st[W_IN] + (q * d1 if q == q else 0.0)
+    return (st[U1] + d1, v1, st[U2] + d2, v2, w_in, st[W_OUTER] + outer,
+            st[W_INNER] + inner)
+
+
+@jitable
+def _log_full(st, log):
+    return len(log) > 0 and st[LOGGED] >= len(log)
+
+
+@jitable
+def ram_start_piece(st, par, log, t0, u1, v1, u2, v2, w_in, w_outer, w_inner, q, kick, horizon):
+    """:func:`pipeplug.rigid.stepping.start_piece` with the ram (its origin values in ``st``:
+    D0, VR, DMAX, W_CUSH, KICK1, ZW)."""
+    st[W_IN], st[W_OUTER], st[W_INNER] = w_in, w_outer, w_inner
+    st[KICK] = kick
+    make_ram_piece(st, par, t0, u1, v1, u2, v2, 0.0 if math.isnan(q) else q, kick)
+    st[Q] = q
+    log_mode(st, log)
+    _search(st, par, horizon)
+
+
+@jitable
+def _search(st, par, horizon):
+    """Look for the piece's next event up to ``horizon`` [s] after its origin."""
+    st[HORIZON] = horizon
+    dt, labels = find_ram_event(st, par, horizon)
+    t_event = st[T0] + dt
+    st[T_EVENT], st[LABELS] = t_event, labels
+    st[T_SNAP] = t_event - _EVENT_SNAP * t_event if dt < math.inf else math.inf
+    st[SEARCHED] = st[T0] + horizon if dt > horizon else math.inf
+
+
+@jitable
+def _origin(st, delta, v_ram, delta_max, loss, kick1, closing):
+    """Write the ram's origin values of the next piece."""
+    st[D0], st[VR], st[DMAX], st[W_CUSH] = delta, v_ram, delta_max, loss
+    st[KICK1], st[ZW] = kick1, closing
+
+
+@jitable
+def _now(st, par, t):
+    """The pipe's, plug's and ram's values at ``t`` [s], velocities past a stop or a stick that
+    round-off crossed set back (as :func:`pipeplug.rigid.stepping._restart` does)."""
+    u1, v1, u2, v2, w_in, w_outer, w_inner = values_at(st, par, t)
+    delta, v_ram, delta_max, loss, fc = ram_state(st, par, t - st[T0], v1)
+    s1, s2 = st[S1], st[S2]
+    riding = st[RAM] == RIDING
+    if s1 != 0 and v1 * s1 < 0.0:
+        v1 = 0.0
+    if s2 != 0 and (v1 - v2) * s2 < 0.0:
+        if s1 != 0:
+            v1 = _common_velocity(par, v1, v2, riding)
+        v2 = v1
+    if riding:
+        v_ram = v1
+    return u1, v1, u2, v2, w_in, w_outer, w_inner, delta, v_ram, delta_max, loss, fc
+
+
+@jitable
+def _restart(st, par, log, q, t_end):
+    """A new piece at the current time under a new force ``q`` [N]."""
+    t = st[TIME]
+    u1, v1, u2, v2, w_in, w_outer, w_inner, delta, v_ram, delta_max, loss, _ = _now(st, par, t)
+    _origin(st, delta, v_ram, delta_max, loss, 0.0, 0.0)
+    ram_start_piece(st, par, log, t, u1, v1, u2, v2, w_in, w_outer, w_inner, q, 0, t_end - t)
+
+
+@jitable
+def strike(st, par, log, velocity):
+    """Start a strike now: the ram at the head, touching an unloaded cushion, moving at
+    ``velocity`` [m/s] (a direct strike faster than the head strikes it at once). The kinetic
+    energy the ram had is replaced (W_RAM counts the difference) and what the cushion still
+    held is lost. ``log`` must have room for one piece's modes."""
+    t = st[TIME]
+    u1, v1, u2, v2, w_in, w_outer, w_inner, _, v_ram, _, loss, fc = _now(st, par, t)
+    if par[P_K] > 0.0:
+        loss += fc * fc / (2.0 * par[P_KU])
+    mr = par[P_RAM_M]
+    st[W_RAM] += 0.5 * mr * (velocity * velocity - v_ram * v_ram)
+    st[RAM_ON], st[VSCALE] = 1.0, 0.0
+    closing = 0.0
+    if par[P_K] == 0.0 and velocity > v1:
+        v1, velocity, lost, closing = impact(st, par, v1, velocity)
+        loss += lost
+    _origin(st, 0.0, velocity, 0.0, loss, 0.0, closing)
+    if par[P_COUPLED] == 0.0:
+        u2 = v2 = 0.0
+    ram_start_piece(st, par, log, t, u1, v1, u2, v2, w_in, w_outer, w_inner, st[Q], 0,
+                    max(st[T0] + st[HORIZON] - t, 0.0))
+
+
+@jitable
+def _common_velocity(par, v1, v2, riding):
+    """Pipe (with a riding ram) and plug sticking together: their momentum's velocity."""
+    m1, m2 = par[P_M1], par[P_M2]
+    if riding:
+        m1 += par[P_RAM_M]
+    return (m1 * v1 + m2 * v2) / (m1 + m2)
+
+
+@jitable
+def _take_event(st, par, log):
+    """Move the origin to the next event, set the exact post-event values, re-decide modes."""
+    t = st[T_EVENT]
+    u1, v1, u2, v2, w_in, w_outer, w_inner = values_at(st, par, t)
+    delta, v_ram, delta_max, loss, _ = ram_state(st, par, t - st[T0], v1)
+    labels = int(st[LABELS])
+    riding = st[RAM] == RIDING
+    kick = 0
+    kick1 = 0.0
+    if labels & PIPE_REST:
+        v1 = 0.0
+        if st[S2] == 0:
+            v2 = 0.0
+    stick = (labels & STICK) != 0
+    if (labels & PLUG_REST) != 0 or (stick and (labels & PIPE_REST) != 0):
+        v2 = v1
+    elif stick:
+        v1 = v2 = _common_velocity(par, v1, v2, riding)
+    if labels & BREAKAWAY_POS:
+        kick = 1
+    if labels & BREAKAWAY_NEG:
+        kick = -1
+    if labels & PIPE_GO_POS:
+        kick1 = 1.0
+    if labels & PIPE_GO_NEG:
+        kick1 = -1.0
+    if riding:
+        v_ram = v1
+    closing = 0.0
+    if labels & LOAD_END:
+        delta_max, v_ram = delta, v1          # the compression turns: no relative velocity
+    if labels & SEPARATE:
+        delta = st[DB]
+    if labels & RELOAD:
+        delta = delta_max
+    if labels & ACCUMULATE:
+        delta, v_ram = 0.0, v1
+    if labels & CONTACT:
+        delta = st[DB]
+        if par[P_K] == 0.0 and v_ram > v1:
+            v1, v_ram, lost, closing = impact(st, par, v1, v_ram)
+            loss += lost
+    if par[P_COUPLED] == 0.0:
+        u2 = v2 = 0.0
+    _origin(st, delta, v_ram, delta_max, loss, kick1, closing)
+    searched_to = st[T0] + st[HORIZON]
+    ram_start_piece(st, par, log, t, u1, v1, u2, v2, w_in, w_outer, w_inner, st[Q], kick,
+                    max(searched_to - t, 0.0))
+    return OK
+
+
+@jitable
+def _axial(st, par, t):
+    """The smallest and largest axial force along the pipe [N] at ``t`` [s] in the piece."""
+    u1, v1, u2, v2, w_in, w_outer, w_inner = values_at(st, par, t)
+    dt = t - st[T0]
+    fc = ram_state(st, par, dt, v1)[4]
+    f1, f2 = ram_forces(st, par, u1, fc, dt)
+    q = st[Q] if st[Q] == st[Q] else 0.0
+    return axial_extremes(q + fc, f1, f2, par[P_LAW + 3], contact_length(law_of(par), u1),
+                          par[P_L2])
+
+
+@jitable
+def _extremes(st, par, t_end):
+    """Take the extremes of the axial force over [EXT_T, t_end] [s] of the current piece into
+    the step's: at both ends and where the compression turns in between."""
+    a = st[EXT_T]
+    low, high = _axial(st, par, t_end)
+    lo_a, hi_a = _axial(st, par, a)
+    low, high = min(low, lo_a), max(high, hi_a)
+    if st[DK] > 0.0 and st[RAM] != FREE:
+        # delta' = 0 where w t = phase + n pi (the compression a sinusoid about its balance)
+        w = st[DW]
+        phase = math.atan2(st[DV] * w, -st[DA])
+        n = math.floor((w * (a - st[T0]) - phase) / math.pi) + 1.0
+        for _ in range(2):
+            t = st[T0] + (phase + n * math.pi) / w
+            if not t < t_end:
+                break
+            if t > a:
+                lo_t, hi_t = _axial(st, par, t)
+                low, high = min(low, lo_t), max(high, hi_t)
+            n += 1.0
+    st[N_LOW], st[N_HIGH] = min(st[N_LOW], low), max(st[N_HIGH], high)
+    st[EXT_T] = t_end
+
+
+@jitable
+def ram_step_to(st, par, log, q, t_end):
+    """:func:`pipeplug.rigid.stepping.step_to` with the ram, keeping the axial force's extremes
+    over the step."""
+    if st[STEPPING] == 0.0:
+        st[STEPPING] = 1.0
+        st[N_LOW], st[N_HIGH], st[EXT_T] = math.inf, -math.inf, st[TIME]
+    if q != st[Q]:
+        if _log_full(st, log):
+            return LOG_FULL
+        _restart(st, par, log, q, t_end)
+    for _ in range(MAX_EVENTS_PER_STEP):
+        if t_end > st[SEARCHED]:
+            _search(st, par, max(t_end - st[T0], 2.0 * st[HORIZON]))
+        if t_end < st[T_SNAP]:
+            _extremes(st, par, t_end)
+            st[TIME] = t_end
+            st[STEPPING] = 0.0
+            return OK
+        if _log_full(st, log):
+            return LOG_FULL
+        _extremes(st, par, st[T_EVENT])
+        code = _take_event(st, par, log)
+        if code != OK:
+            return code
+    return TOO_MANY_EVENTS
+
+
+@jitable
+def ram_at_rest(st):
+    """Nothing moves, no load, and the ram is off the head and not coming back (no force,
+    not moving forward: a ram that left and recedes does not keep the pipe from rest)."""
+    if not (st[KIND] == AT_REST and st[Q] == 0.0):
+        return False
+    return st[RAM] == NONE or (st[RAM] == FREE and st[VR] <= 0.0)
+
+
+@jitable
+def ram_outputs_at(st, par, t):
+    """The 24 outputs at absolute time ``t`` [s] (a float) inside the current piece, as
+    :func:`pipeplug.rigid.stepping.outputs_at` with the ram (module docstring)."""
+    u1, v1, u2, v2, w_in, w_outer, w_inner = values_at(st, par, t)
+    dt = t - st[T0]
+    _, v_ram, _, loss, fc = ram_state(st, par, dt, v1)
+    f1, f2 = ram_forces(st, par, u1, fc, dt)
+    mr = par[P_RAM_M]
+    kinetic_ram = 0.5 * mr * v_ram * v_ram
+    held = fc * fc / (2.0 * par[P_KU]) if par[P_K] > 0.0 else 0.0
+    kinetic = 0.5 * (par[P_M1] * v1 * v1 + par[P_M2] * v2 * v2) + kinetic_ram
+    q = st[Q] if st[Q] == st[Q] else 0.0
+    head = q + fc
+    transferred = w_in + st[W_RAM] - kinetic_ram - held - loss
+    area = par[P_S1]
+    rest = 1.0 if ram_at_rest(st) else 0.0
+    return (v1, v2, u1, u2, f1, f2, w_in, w_outer + w_inner, w_outer, w_inner, kinetic, held,
+            0.0, head, v_ram, st[W_RAM], loss, transferred, -head / area, st[N_LOW] / area,
+            st[N_HIGH] / area, rest, st[S1], st[S2])
+
+
+@jitable
+def ram_sample_into(st, par, log, loads, times, table, first):
+    """:func:`pipeplug.rigid.stepping.sample_into` with the ram: stepping to each sample time
+    (the stresses are extremes over each interval), the outputs written into ``table``."""
+    n = times.shape[0]
+    for j in range(first, n):
+        q = float(loads[j])
+        if not q - q == 0.0:
+            return LOAD_NOT_FINITE, j
+        code = ram_step_to(st, par, log, q, times[j])
+        if code != OK:
+            return code, j
+        out = ram_outputs_at(st, par, times[j])
+        for i in range(table.shape[0]):
+            table[i, j] = out[i]
+    return OK, n

@@ -1,0 +1,45 @@
+"""Axial force along a rigid pipe from its equilibrium (the rigid models' stress outputs).
+
+A rigid pipe of mass ``M1`` and length ``L1`` accelerates as one body under the head force
+``F_head`` (at x = 0, positive into the soil), the soil's friction ``F_outer`` spread evenly
+over its contact (the last ``Lc`` of the pipe) and the plug's ``F_inner`` spread evenly over the
+plug (the last ``L2``). The axial force (tension positive) is then piecewise linear::
+
+    N(x) = -F_head + (F_head + F_outer + F_inner) x / L1
+           - F_outer max(0, x - (L1 - Lc)) / Lc - F_inner max(0, x - (L1 - L2)) / L2
+
+(the inertia of the part before x less the friction on it), 0 at x = L1; its extremes lie at
+x = 0, L1 - Lc, L1 - L2 or L1.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..jit import jitable
+
+__all__ = ["axial_force_at", "axial_extremes"]
+
+
+@jitable
+def _spread(force, start, length, x):
+    """The part of ``force`` spread evenly over [start, start + length] that lies before x
+    (the pipe ends at start + length, so nothing lies past it: a length of 0 gives 0)."""
+    return force * np.maximum(x - start, 0.0) / np.maximum(length, 1e-300)
+
+
+@jitable
+def axial_force_at(x, head, outer, inner, L1, Lc, L2):
+    """N(x) [N] (module docstring); forces may be arrays (dense output)."""
+    return (-head + (head + outer + inner) * (x / L1) - _spread(outer, L1 - Lc, Lc, x)
+            - _spread(inner, L1 - L2, L2, x))
+
+
+@jitable
+def axial_extremes(head, outer, inner, L1, Lc, L2):
+    """The smallest and largest axial force along the pipe [N]: of N at the head (-F_head), at
+    the free end (0) and at the two breaks; floats, or arrays over times (dense output)."""
+    at_contact = axial_force_at(L1 - Lc, head, outer, inner, L1, Lc, L2)
+    at_plug = axial_force_at(L1 - L2, head, outer, inner, L1, Lc, L2)
+    low = np.minimum(np.minimum(-head, 0.0 * head), np.minimum(at_contact, at_plug))
+    high = np.maximum(np.maximum(-head, 0.0 * head), np.maximum(at_contact, at_plug))
+    return low, high

@@ -1,0 +1,356 @@
+"""The FMI 2.0 co-simulation base of the project's FMUs (PipePlug and Hammer) on pythonfmu 0.7.
+
+One base, as the Reference-FMUs share one ``fmi2Functions.c``: it holds the variables' values,
+the FMI 2.0 call sequence (:mod:`~pipeplug_fmu.sequence`), every refusal and the FMU state
+(:mod:`~pipeplug_fmu.fmu_state`). A slave subclasses it, registers its variables with
+:meth:`FmiBase._add` and supplies four hooks:
+
+* ``_build(values)``: the model of the parameter values (by name), at
+  fmi2ExitInitializationMode and when a state is restored; raises :class:`Refuse`;
+* ``_step(model, t, h)``: advance from t by h [s] and return the outputs in registration
+  order; raises :class:`Discard` (the model unchanged) or :class:`Refuse`;
+* ``_save(model)`` / ``_load(model, saved)``: the model's own state (copies), and its restore;
+* optionally ``_refresh()``: outputs that depend on values set before initialization.
+
+The call sequence is FMI 2.0's for co-simulation (``Phase``): fmi2SetupExperiment and
+fmi2EnterInitializationMode in "instantiated", fmi2ExitInitializationMode in
+"initialization mode", fmi2DoStep and fmi2Terminate in "stepping"; parameters may be set before
+initialization, inputs also while stepping, nothing after fmi2Terminate; values may be read in
+every phase. A call out of that sequence is refused and changes nothing.
+
+Every refusal is one line naming the variable (or the call), its value and what is allowed:
+
+* fmi2Error (the slave raises :class:`~pipeplug_fmu.pythonfmu07.Refusal`, which the loader gives
+  the host as fmi2Error): invalid parameters or options, calls out of order, unknown value
+  references, values of the wrong kind, a step past the stopTime, a corrupt FMU state, and a
+  step whose outputs would not be finite (the instance is then in error: the host restores a
+  state or resets it);
+* fmi2Discard (``do_step`` logs the line and returns False): a step that cannot be taken (a
+  communication point off the FMU's time, a step size that is not > 0, or what ``_step``
+  refuses, such as a non-finite input); the instance is unchanged and goes on.
+
+What happens after an fmi2Error (only fmi2SetFMUstate, fmi2Reset, fmi2Terminate and
+fmi2FreeInstance accepted) is enforced by the linux64 loader, which sees every status it
+returns; pythonfmu's win64 binary has no such gate.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from pythonfmu import Boolean, Fmi2Slave, Integer, Real, String
+from pythonfmu.enums import Fmi2Status
+
+from .fmi import decorate_model_description, refusal
+from .fmu_state import StateHandling, conformity
+from .pythonfmu07 import NOT_UTF8, Refusal, escape_percent, outlive_the_exception, value_reference
+from .sequence import TIME_TOLERANCE, Discard, Phase, Refuse, all_finite, stop_limit
+
+__all__ = ["FmiBase", "Phase", "Refuse", "Discard", "TIME_TOLERANCE", "conformity"]
+
+_TYPES = {"Real": Real, "Integer": Integer, "Boolean": Boolean, "String": String}
+_STEPPING = Phase.STEPPING
+
+
+@dataclass(frozen=True)
+class Variable:
+    """One registered variable; ``allowed`` says in words which values it takes."""
+
+    vr: int
+    name: str
+    kind: str                     # "Real", "Integer", "Boolean" or "String"
+    causality: str                # "input", "output" or "parameter"
+    unit: str | None
+    bounds: tuple                 # (min, max) for modelDescription.xml, None where absent
+    allowed: str
+
+
+class FmiBase(StateHandling, Fmi2Slave):
+    """The FMI side of a slave (see the module docstring); subclasses set
+    :attr:`model_identifier`, register variables in ``_register`` and supply the hooks."""
+
+    #: The FMU's modelIdentifier (its slave class's name).
+    model_identifier = ""
+
+    def __init__(self, **kwargs):
+        super().__init__(**kwargs)
+        self._tables = {kind: {} for kind in _TYPES}       # kind -> {value reference: value}
+        self._variables: list[Variable] = []                 # by value reference
+        self._phase = Phase.INSTANTIATED      # changed by _enter() only
+        self._time = 0.0                  # the FMU's own time [s]
+        self._stop_time = None            # stopTime of fmi2SetupExperiment [s], None: none
+        self._stop_limit = math.inf       # the last end of a step accepted [s]
+        self._model = None                # built at fmi2ExitInitializationMode
+        self._register()
+        self._index()
+        self._refresh()
+
+    # Registration ---------------------------------------------------------------------------
+    def _register(self) -> None:
+        """Register every variable with :meth:`_add` (subclass)."""
+        raise NotImplementedError
+
+    def _add(self, kind, name, start, unit, meaning, causality, variability, initial=None,
+             bounds=(None, None), allowed="") -> int:
+        """Register one variable of FMI type ``kind``; its value reference."""
+        vr = len(self.vars)
+        table = self._tables[kind]
+        table[vr] = start
+        self._variables.append(Variable(vr, name, kind, causality.name, unit, bounds, allowed))
+        extra = {} if initial is None else {"initial": initial}
+        self.register_variable(_TYPES[kind](name, description=meaning, getter=lambda: table[vr],
+                                            causality=causality, variability=variability,
+                                            **extra))
+        return vr
+
+    def _index(self) -> None:
+        """Which value references each phase lets be set, and where the outputs go."""
+        inputs = [v for v in self._variables if v.causality == "input"]
+        early = inputs + [v for v in self._variables if v.causality == "parameter"]
+        self._settable = {
+            phase: {kind: frozenset(v.vr for v in group if v.kind == kind) for kind in _TYPES}
+            for phase, group in ((Phase.INSTANTIATED, early), (Phase.INITIALIZATION, early),
+                                 (Phase.STEPPING, inputs), (Phase.TERMINATED, []))}
+        self._output_slots = tuple((self._tables[v.kind], v.vr) for v in self._variables
+                                   if v.causality == "output")
+        self._by_name = {v.name: v for v in self._variables}
+        self._reals = self._tables["Real"]
+        self._enter(self._phase)
+
+    def _enter(self, phase: Phase) -> None:
+        """Go to ``phase``; keep what the per-step calls look at at hand."""
+        self._phase = phase
+        self._real_inputs = self._settable[phase]["Real"]     # settable Reals now
+
+    # Hooks of the subclass --------------------------------------------------------------------
+    def _build(self, values: dict):
+        """The model of ``values`` (name -> value); raises :class:`Refuse`."""
+        raise NotImplementedError
+
+    def _step(self, model, t: float, h: float) -> tuple:
+        """Advance ``model`` from ``t`` by ``h`` [s]; the outputs in registration order."""
+        raise NotImplementedError
+
+    def _save(self, model) -> dict:
+        """The model's own state, as copies (default: none)."""
+        return {}
+
+    def _load(self, model, saved: dict) -> None:
+        """Restore the model's own state from :meth:`_save`; raises :class:`Refuse`."""
+        if saved:
+            raise Refuse.of("FMUstate", sorted(saved), "no model state")
+
+    def _refresh(self) -> None:
+        """Update outputs that depend on values set before initialization (default: none)."""
+
+    # FMI calls: the sequence ------------------------------------------------------------------
+    def setup_experiment(self, start_time, stop_time=None, tolerance=None):
+        try:
+            self._expect("fmi2SetupExperiment", Phase.INSTANTIATED)
+            if not math.isfinite(start_time):
+                raise Refuse.of("startTime", start_time, "finite [s]")
+            if stop_time is not None and not (math.isfinite(stop_time)
+                                              and stop_time >= start_time):
+                raise Refuse.of("stopTime", stop_time,
+                                f"finite, >= startTime = {start_time!r} [s]")
+            self._time, self._stop_time = float(start_time), stop_time
+            self._stop_limit = stop_limit(stop_time)
+            self._refresh()
+        except Exception as exc:
+            self._fail("fmi2SetupExperiment", exc)
+
+    def enter_initialization_mode(self):
+        try:
+            self._expect("fmi2EnterInitializationMode", Phase.INSTANTIATED)
+            self._enter(Phase.INITIALIZATION)
+        except Exception as exc:
+            self._fail("fmi2EnterInitializationMode", exc)
+
+    def exit_initialization_mode(self):
+        try:
+            self._expect("fmi2ExitInitializationMode", Phase.INITIALIZATION)
+            self._model = self._build(self._named_values())
+            self._enter(Phase.STEPPING)
+            self._refresh()
+        except Exception as exc:
+            self._fail("fmi2ExitInitializationMode", exc)
+
+    def terminate(self):
+        try:
+            self._expect("fmi2Terminate", Phase.STEPPING)
+            self._enter(Phase.TERMINATED)
+        except Exception as exc:
+            self._fail("fmi2Terminate", exc)
+
+    def do_step(self, current_time, step_size):
+        try:
+            if self._phase is not _STEPPING:
+                self._expect("fmi2DoStep", _STEPPING)
+            t, end = self._time, current_time + step_size
+            # Written so that NaN fails every test: ``not (x <= bound)`` rather than ``x > bound``.
+            if not (abs(current_time - t) <= TIME_TOLERANCE * max(1.0, abs(t))
+                    and step_size > 0.0 and end > t and end <= self._stop_limit):
+                return self._refuse_step(current_time, step_size)
+            out = self._step(self._model, current_time, step_size)
+            try:                                   # _all_finite(out), inline: every step
+                finite = (total := _fsum(out)) - total == 0.0
+            except OverflowError:                  # finite terms whose sum overflows
+                finite = True
+            except ValueError:                     # inf - inf
+                finite = False
+            if not finite:
+                raise Refuse(self._not_finite(out, current_time, step_size))
+        except Discard as exc:
+            self.log(escape_percent(exc.line), Fmi2Status.discard)
+            return False
+        except Exception as exc:
+            self._fail("fmi2DoStep", exc)
+        for (table, vr), value in zip(self._output_slots, out):
+            table[vr] = value
+        self._time = end                # the host's point: the contract's rule
+        return True
+
+    def _refuse_step(self, current_time, step_size) -> bool:
+        """The one reason a step is refused: discard, or error for a step past the stopTime."""
+        t = self._time
+        if not abs(current_time - t) <= TIME_TOLERANCE * max(1.0, abs(t)):
+            raise Discard.of("currentCommunicationPoint", current_time,
+                             f"the FMU time {t!r} s within 1e-9*max(1, |t|)")
+        if not step_size > 0.0:
+            raise Discard.of("communicationStepSize", step_size, "> 0 [s]")
+        if not current_time + step_size > t:
+            raise Discard.of("currentCommunicationPoint + communicationStepSize",
+                             current_time + step_size, f"> the FMU time {t!r} s")
+        raise Refuse.of("currentCommunicationPoint + communicationStepSize",
+                        current_time + step_size,
+                        f"<= stopTime = {self._stop_time!r} s (+1e-9*max(1, |stopTime|))")
+
+    def _not_finite(self, out, t, h) -> str:
+        """The refusal of a step whose outputs are not all finite (the first one named)."""
+        outputs = [v for v in self._variables if v.causality == "output"]
+        name, value = next((v.name, x) for v, x in zip(outputs, out) if not all_finite((x,)))
+        return refusal(name, value, f"finite; the step from t = {t!r} s by {h!r} s exceeded "
+                                    f"what the model computes (set a saved FMU state or reset)")
+
+    # Getters and setters ------------------------------------------------------------------
+    def get_real(self, vrs):
+        try:
+            return list(map(self._reals.__getitem__, vrs))
+        except Exception:
+            self._refuse_get(vrs, "Real")
+
+    def get_integer(self, vrs):
+        try:
+            return list(map(self._tables["Integer"].__getitem__, vrs))
+        except Exception:
+            self._refuse_get(vrs, "Integer")
+
+    def get_boolean(self, vrs):
+        try:
+            return list(map(self._tables["Boolean"].__getitem__, vrs))
+        except Exception:
+            self._refuse_get(vrs, "Boolean")
+
+    def get_string(self, vrs):
+        try:
+            return list(map(self._tables["String"].__getitem__, vrs))
+        except Exception:
+            self._refuse_get(vrs, "String")
+
+    def _refuse_get(self, vrs, kind):
+        table = self._tables[kind]
+        bad = next((vr for vr in vrs if vr not in table), None)
+        self._fail(f"fmi2Get{kind}", Refuse.of(
+            "valueReference", value_reference(bad) if bad is not None else bad,
+            f"a {kind} variable of {self.model_identifier}"))
+
+    def set_real(self, vrs, values):
+        if len(vrs) == 1 and vrs[0] in self._real_inputs:
+            self._reals[vrs[0]] = values[0]               # the input, every step: first
+            if self._phase is not _STEPPING:
+                self._refresh()
+            return
+        self._set("Real", vrs, values)
+
+    def set_integer(self, vrs, values):
+        self._set("Integer", vrs, values)
+
+    def set_boolean(self, vrs, values):
+        self._set("Boolean", vrs, values)
+
+    def set_string(self, vrs, values):
+        self._set("String", vrs, values)
+
+    def _set(self, kind, vrs, values):
+        """Set all of ``values`` or, refusing the first one that cannot be set, none."""
+        try:
+            settable = self._settable[self._phase][kind]
+            for vr, value in zip(vrs, values):
+                if vr not in settable:
+                    raise self._unsettable(kind, vr, value)
+                if kind == "String" and (not isinstance(value, str)
+                                         or value.startswith(NOT_UTF8)):         # P7
+                    raise Refuse.of(self._variables[vr].name, _shown(value),
+                                    f"UTF-8 text ({self._variables[vr].allowed})")
+            table = self._tables[kind]
+            for vr, value in zip(vrs, values):
+                table[vr] = value
+            if self._phase is not _STEPPING:
+                self._refresh()
+        except Exception as exc:
+            self._fail(f"fmi2Set{kind}", exc)
+
+    def _unsettable(self, kind, vr, value) -> Refuse:
+        """Why ``vr`` cannot be set to ``value`` with fmi2Set<kind> now."""
+        var = self._variables[vr] if 0 <= vr < len(self._variables) else None
+        if var is None or var.kind != kind:
+            return Refuse.of("valueReference", value_reference(vr),
+                             f"a settable {kind} variable of {self.model_identifier}")
+        if var.causality == "output":
+            return Refuse.of(var.name, value, f"a settable variable ({var.name} is an output)")
+        if self._phase is Phase.TERMINATED:
+            return Refuse.of(var.name, value, "no change after fmi2Terminate")
+        return Refuse.of(var.name, value, f"no change after initialization (fixed parameter; "
+                                          f"it stays {self._tables[kind][vr]!r})")
+
+    # Refusals ---------------------------------------------------------------------------------
+    def _expect(self, call: str, phase: Phase) -> None:
+        """Refuse ``call`` unless the instance is in ``phase``."""
+        if self._phase is not phase:
+            raise Refuse(f"{call} is not allowed in {self._phase.value}; allowed: in "
+                         f"{phase.value} only (the FMI 2.0 call sequence)")
+
+    def _fail(self, call: str, exc: Exception):
+        """Refuse ``call`` with fmi2Error: the line of a :class:`Refuse`, or what went wrong."""
+        if isinstance(exc, Refusal):
+            raise exc
+        line = exc.line if isinstance(exc, Refuse) else (
+            f"{call} failed: {type(exc).__name__}: {exc}")
+        outlive_the_exception(self)                        # P2
+        raise Refusal(self.model_identifier, escape_percent(line)) from None
+
+    def _named_values(self) -> dict:
+        """Every variable's value by name."""
+        return {v.name: self._tables[v.kind][v.vr] for v in self._variables}
+
+    # modelDescription.xml (build time only) ------------------------------------------------
+    def to_xml(self, model_options=None):
+        root = super().to_xml(model_options or {})
+        decorate_model_description(root, [(v.name, v.unit, v.bounds) for v in self._variables])
+        return root
+
+
+_fsum = math.fsum
+
+
+def _shown(value) -> object:
+    """A String value as a refusal shows it: the bytes behind the loader's mark (P7)."""
+    if isinstance(value, str) and value.startswith(NOT_UTF8):
+        hexed = value[len(NOT_UTF8):]
+        try:
+            return bytes.fromhex(hexed[:400]) + (b"..." if len(hexed) > 400 else b"")
+        except ValueError:
+            return value
+    return value
+
+

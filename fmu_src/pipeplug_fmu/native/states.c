@@ -1,0 +1,245 @@
+/* FMU states: handles the loader checks, and serialized states it frames (pythonfmu07 P9).
+ *
+ * pythonfmu's FMU state is the Python object the slave returned, and it uses whatever pointer
+ * the host hands back as one. The host gets a handle instead: a number of this loader's own
+ * (a random start, counted up; never reused), looked up in the list of live states. A NULL
+ * handle, a freed one, or one of another FMU (whose loader is another copy with its own list)
+ * is refused with one line before pythonfmu sees it. The states obtained through an instance
+ * are freed with it.
+ *
+ * A serialized state is a 32-byte header and pythonfmu's bytes (the payload): the magic
+ * "FMI2STAT", the identity of the FMU and build (build_identity), the payload's length and its
+ * FNV-1a hash, each 8 bytes, little-endian. fmi2DeSerializeFMUstate refuses bytes of another
+ * FMU or build, of the wrong length or whose hash differs; fmi2SerializeFMUstate refuses a
+ * buffer smaller than the state. What the bytes hold is checked by the slave when it is set.
+ */
+#include "loader.h"
+
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+#define MAGIC "FMI2STAT"
+#define HEADER 32
+
+typedef struct Record {
+    uint64_t handle;
+    fmi2FMUstate inner;        /* pythonfmu's state */
+    Instance *owner;           /* the instance it was obtained through */
+    struct Record *next;
+} Record;
+
+static pthread_mutex_t lock = PTHREAD_MUTEX_INITIALIZER;
+static Record *records;
+static uint64_t next_handle;
+
+/* A handle never given out before by this loader, and unlikely to be another loader's. */
+static uint64_t new_handle(void) {
+    if (next_handle == 0) {
+        uint64_t seed[3] = {(uint64_t)(uintptr_t)&records, (uint64_t)time(NULL),
+                            (uint64_t)getpid()};
+        next_handle = fnv1a(FNV_START, seed, sizeof seed) & ~(uint64_t)0xf;
+    }
+    next_handle += 16;
+    return next_handle ? next_handle : (next_handle = 16);
+}
+
+/* The live record of `handle`, or NULL. */
+static Record *find(fmi2FMUstate handle) {
+    pthread_mutex_lock(&lock);
+    Record *r = records;
+    while (r != NULL && r->handle != (uint64_t)(uintptr_t)handle) r = r->next;
+    pthread_mutex_unlock(&lock);
+    return r;
+}
+
+static fmi2FMUstate add(Instance *in, fmi2FMUstate inner_state) {
+    Record *r = calloc(1, sizeof *r);
+    if (r == NULL) return NULL;
+    pthread_mutex_lock(&lock);
+    *r = (Record){new_handle(), inner_state, in, records};
+    records = r;
+    pthread_mutex_unlock(&lock);
+    return (fmi2FMUstate)(uintptr_t)r->handle;
+}
+
+static void drop(Record *gone) {
+    pthread_mutex_lock(&lock);
+    for (Record **r = &records; *r != NULL; r = &(*r)->next)
+        if (*r == gone) {
+            *r = gone->next;
+            break;
+        }
+    pthread_mutex_unlock(&lock);
+    free(gone);
+}
+
+/* Refuse a state argument `name` with value `handle` (or a NULL pointer to one). */
+static fmi2Status refuse_state(Instance *in, const char *call, const char *name,
+                               const void *handle, const char *allowed) {
+    Text why = {0};
+    if (handle == NULL) text_printf(&why, "%s = NULL", name);
+    else text_printf(&why, "%s = %p", name, handle);
+    text_printf(&why, " is not allowed in %s; allowed: %s", call, allowed);
+    return refuse(in, &why);
+}
+
+#define LIVE "a live state of this " MODEL " (from fmi2GetFMUstate or fmi2DeSerializeFMUstate, " \
+             "not freed, not of another FMU)"
+
+/* Store a new pythonfmu state in *state: into its record if *state is a live handle (FMI:
+ * the state is overwritten), else under a new handle. */
+static fmi2Status keep(Instance *in, fmi2FMUstate *state, fmi2FMUstate fresh) {
+    Record *r = *state != NULL ? find(*state) : NULL;
+    if (r != NULL) {
+        fmi2FMUstate old = r->inner;
+        r->inner = fresh;
+        inner.fmi2FreeFMUstate(in->inner, &old);
+        return fmi2OK;
+    }
+    *state = add(in, fresh);
+    if (*state != NULL) return fmi2OK;
+    inner.fmi2FreeFMUstate(in->inner, &fresh);
+    Text why = {0};
+    text_printf(&why, "FMUstate cannot be kept: out of memory");
+    return refuse(in, &why);
+}
+
+fmi2Status state_get(Instance *in, fmi2FMUstate *state) {
+    if (state == NULL)
+        return refuse_state(in, "fmi2GetFMUstate", "FMUstate", NULL, "a pointer to a variable");
+    fmi2FMUstate fresh = NULL;
+    fmi2Status status = finish(in, inner.fmi2GetFMUstate(in->inner, &fresh));
+    if (status > fmi2Warning) return status;
+    return keep(in, state, fresh);
+}
+
+fmi2Status state_set(Instance *in, fmi2FMUstate state) {
+    Record *r = state != NULL ? find(state) : NULL;
+    if (r == NULL) return refuse_state(in, "fmi2SetFMUstate", "FMUstate", state, LIVE);
+    return finish(in, inner.fmi2SetFMUstate(in->inner, r->inner));
+}
+
+fmi2Status state_free(Instance *in, fmi2FMUstate *state) {
+    if (state == NULL)
+        return refuse_state(in, "fmi2FreeFMUstate", "FMUstate", NULL, "a pointer to a state");
+    if (*state == NULL) return fmi2OK;                      /* FMI: ignored */
+    Record *r = find(*state);
+    if (r == NULL) return refuse_state(in, "fmi2FreeFMUstate", "*FMUstate", *state, LIVE);
+    inner.fmi2FreeFMUstate(in->inner, &r->inner);
+    drop(r);
+    *state = NULL;
+    return fmi2OK;
+}
+
+void states_of_instance_free(Instance *in) {
+    pthread_mutex_lock(&lock);
+    Record **r = &records;
+    while (*r != NULL) {
+        Record *gone = *r;
+        if (gone->owner != in) {
+            r = &gone->next;
+            continue;
+        }
+        *r = gone->next;
+        inner.fmi2FreeFMUstate(in->inner, &gone->inner);
+        free(gone);
+    }
+    pthread_mutex_unlock(&lock);
+}
+
+/* The length of pythonfmu's bytes of the state of record `r` into *n; its status. */
+static fmi2Status payload_size(Instance *in, Record *r, size_t *n) {
+    *n = 0;
+    return finish(in, inner.fmi2SerializedFMUstateSize(in->inner, r->inner, n));
+}
+
+fmi2Status state_size(Instance *in, fmi2FMUstate state, size_t *size) {
+    Record *r = state != NULL ? find(state) : NULL;
+    if (r == NULL) return refuse_state(in, "fmi2SerializedFMUstateSize", "FMUstate", state, LIVE);
+    if (size == NULL)
+        return refuse_state(in, "fmi2SerializedFMUstateSize", "size", NULL,
+                            "a pointer to a size_t");
+    size_t n;
+    fmi2Status status = payload_size(in, r, &n);
+    if (status <= fmi2Warning) *size = HEADER + n;
+    return status;
+}
+
+static void put64(fmi2Byte *at, uint64_t value) {
+    for (int i = 0; i < 8; i++) at[i] = (fmi2Byte)(value >> (8 * i));
+}
+
+static uint64_t get64(const fmi2Byte *at) {
+    uint64_t value = 0;
+    for (int i = 0; i < 8; i++) value |= (uint64_t)(unsigned char)at[i] << (8 * i);
+    return value;
+}
+
+fmi2Status state_serialize(Instance *in, fmi2FMUstate state, fmi2Byte bytes[], size_t size) {
+    Record *r = state != NULL ? find(state) : NULL;
+    if (r == NULL) return refuse_state(in, "fmi2SerializeFMUstate", "FMUstate", state, LIVE);
+    if (bytes == NULL)
+        return refuse_state(in, "fmi2SerializeFMUstate", "serializedState", NULL,
+                            "an array of fmi2SerializedFMUstateSize bytes");
+    size_t n;
+    fmi2Status status = payload_size(in, r, &n);
+    if (status > fmi2Warning) return status;
+    if (size < HEADER + n) {
+        Text why = {0};
+        text_printf(&why, "size = %zu is not allowed in fmi2SerializeFMUstate; allowed: >= %zu "
+                    "(fmi2SerializedFMUstateSize of this state)", size, HEADER + n);
+        return refuse(in, &why);
+    }
+    char *payload = malloc(n + 1);
+    if (payload == NULL) return refuse_state(in, "fmi2SerializeFMUstate", "FMUstate", state,
+                                             "a state that fits in memory");
+    status = finish(in, inner.fmi2SerializeFMUstate(in->inner, r->inner, payload, n));
+    if (status <= fmi2Warning) {
+        memcpy(bytes, MAGIC, 8);
+        put64(bytes + 8, build_identity);
+        put64(bytes + 16, n);
+        put64(bytes + 24, fnv1a(FNV_START, payload, n));
+        memcpy(bytes + HEADER, payload, n);
+    }
+    free(payload);
+    return status;
+}
+
+/* What is wrong with `bytes` as a serialized state of this FMU and build, NULL if nothing. */
+static const char *framing_error(const fmi2Byte bytes[], size_t size) {
+    if (size < HEADER) return "a serialized state of this " MODEL " build (it is shorter than "
+                              "the 32-byte header)";
+    if (memcmp(bytes, MAGIC, 8) != 0 || get64(bytes + 8) != build_identity)
+        return "a state serialized by this " MODEL " build (these bytes are not)";
+    if (get64(bytes + 16) != size - HEADER)
+        return "the length of the serialized state (32 + the payload length in its header)";
+    if (get64(bytes + 24) != fnv1a(FNV_START, bytes + HEADER, size - HEADER))
+        return "a serialized state as written (its checksum does not match: the bytes were "
+               "changed)";
+    return NULL;
+}
+
+fmi2Status state_deserialize(Instance *in, const fmi2Byte bytes[], size_t size,
+                             fmi2FMUstate *state) {
+    if (state == NULL)
+        return refuse_state(in, "fmi2DeSerializeFMUstate", "FMUstate", NULL,
+                            "a pointer to a variable");
+    if (bytes == NULL)
+        return refuse_state(in, "fmi2DeSerializeFMUstate", "serializedState", NULL,
+                            "the bytes of fmi2SerializeFMUstate");
+    const char *wrong = framing_error(bytes, size);
+    if (wrong != NULL) {
+        Text why = {0};
+        text_printf(&why, "serializedState of size = %zu is not allowed in "
+                    "fmi2DeSerializeFMUstate; allowed: %s", size, wrong);
+        return refuse(in, &why);
+    }
+    fmi2FMUstate fresh = NULL;
+    fmi2Status status = finish(in, inner.fmi2DeSerializeFMUstate(in->inner, bytes + HEADER,
+                                                                 size - HEADER, &fresh));
+    if (status > fmi2Warning) return status;
+    return keep(in, state, fresh);
+}

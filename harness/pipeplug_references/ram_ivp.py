@@ -1,0 +1,346 @@
+"""Reference solution of rigid model I with a ram, by ODE integration (independent of the core).
+
+Model: a rigid pipe (mass M1) with a rigid plug (mass M2) in the soil, Coulomb friction at both
+contacts (model I: the soil's limit F1 = P1 L1 tau1 is constant; the plug's F2 = P2 L2 tau2), a
+struck-end force Q(t) and a ram of mass m behind the head::
+
+    M1 U1'' = Q + F + f1 + f2,    M2 U2'' = -f2,    m X'' = -F
+    f1 in -F1 Sign(U1'),          f2 in -F2 Sign(U1' - U2')
+
+The ram acts through a cushion that only pushes: with the compression D = X - U1 (0 when a
+strike puts the ram at the head), F = k D on the loading line (D at its largest so far, Dmax),
+F = (k / e^2) (D - (1 - e^2) Dmax) on the unloading line, and 0 below (ram free). Without a
+cushion (k = 0) ram and pipe meet in impacts with restitution e: the ram's and the pipe's
+velocities change by the impulse (1 + e) mu w (mu = m M1 / (m + M1), w the closing velocity)
+and plug and soil take none. An impact closing slower than ``PLASTIC`` times the fastest since
+the strike is plastic (ram and pipe at their momentum's velocity), so that a Zeno sequence of
+impacts (a ram following a decelerating pipe) ends after finitely many; then the ram rides on
+the pipe (one body) while the pipe alone would decelerate, and is left behind otherwise.
+
+Method: as :mod:`pipeplug_references.rigid_ivp`: the motion is cut into pieces of constant
+contact modes (pipe, plug, ram: free, loading, unloading, riding), each integrated by scipy's
+``solve_ivp`` (DOP853) with terminal events for every mode change (a velocity reaching 0, the
+largest compression, the cushion's force reaching 0, the compression reaching Dmax again, the
+ram reaching the cushion, the held pipe's or the carried plug's force reaching its friction
+limit). At every event and at every load change or strike the modes are decided anew by the
+joint two-contact Coulomb problem (:func:`pipeplug_references.rigid_ivp.coulomb_modes`) under
+Q plus the cushion's force; a friction force that reached its limit by the cushion's growing
+force slips in that direction. Works are bookkept from the displacements (Q dU1, F1 |dU1|,
+F2 |d(U1 - U2)|); the cushion's loss is (1 - e^2) of the work on the loading line and the
+impacts' loss. Written from the equations above; imports numpy and scipy, and the reference's
+own Coulomb solver, nothing of the project's core.
+"""
+from __future__ import annotations
+
+import numpy as np
+from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
+
+from .rigid_ivp import System, coulomb_modes
+
+__all__ = ["simulate_ram", "OUTPUTS", "PLASTIC"]
+
+OUTPUTS = ("v_pipe", "v_plug", "u_pipe", "u_plug", "v_ram", "F_head", "W_input", "W_friction",
+           "W_cushion", "E_strain", "E_kinetic", "W_ram", "pipe_mode", "plug_mode")
+PLASTIC = 1e-10          #: impacts closing slower than this share of the fastest are plastic
+RTOL = 1e-13
+MAX_STALLED = 50         #: consecutive pieces without time progress before giving up
+MAX_EVENTS = 200_000     #: mode decisions of one run before giving up
+FREE, LOAD, UNLOAD, RIDE = "free", "load", "unload", "ride"
+
+
+class _Ram:
+    """The ram's constants and its cushion's law."""
+
+    def __init__(self, m, k, e):
+        self.m, self.k, self.e = m, k, e
+        self.ku = k / (e * e) if k > 0.0 else 0.0
+
+    def force(self, c, d, dmax):
+        """The cushion's force in contact state ``c`` at compression ``d`` (0 when free)."""
+        if c == LOAD:
+            return self.k * d
+        if c == UNLOAD:
+            return self.ku * (d - (1.0 - self.e ** 2) * dmax)
+        return 0.0
+
+
+def simulate_ram(params: dict, ram: dict, history, times, *, rtol: float = RTOL) -> dict:
+    """Model I with a ram under loads and strikes.
+
+    Parameters
+    ----------
+    params : dict
+        L1, L2, R1, h1, rho1, rho2, tau1, tau2 (SI) as :func:`pipeplug_references.rigid_ivp.simulate`.
+    ram : dict
+        ``mass`` [kg], ``k`` [N/m] (0: direct impacts), ``e`` [1].
+    history : list of (time [s], "q" | "strike", value)
+        At each time (increasing) the load becomes ``value`` [N] or a strike starts, the ram at
+        the head touching an unloaded cushion at ``value`` [m/s].
+    times : array
+        Increasing sample times [s] (samples at a history time are taken after it).
+
+    Returns
+    -------
+    dict of arrays (:data:`OUTPUTS`) at ``times`` and ``events``: (time, description).
+    """
+    s = System(params, False)
+    r = _Ram(float(ram["mass"]), float(ram.get("k", 0.0)), float(ram.get("e", 1.0)))
+    times = np.asarray(times, dtype=float)
+    out = {name: np.zeros(times.size) for name in OUTPUTS}
+    events = []
+    out["events"] = events
+    y = np.zeros(6)                   # U1, V1, U2, V2, D (compression), VR (ram velocity)
+    st = dict(q=0.0, p=0, rr=0, c=FREE, dmax=0.0, struck=False, w_in=0.0, w_fo=0.0, w_fi=0.0,
+              w_c=0.0, w_ram=0.0, vscale=0.0, kick1=0, kick2=0)
+    marks = [h[0] for h in history] + [float(times[-1]) if times.size else 0.0]
+    k = 0
+    t = 0.0
+    pending = list(history)
+    _decide(s, r, y, st, events, t, "start")
+    stalled = 0
+    for t_next in marks:
+        while t < t_next:
+            t_end, y_end, fired, sol = _piece(s, r, y, st, t, t_next, times, k, rtol)
+            stalled = stalled + 1 if t_end <= t else 0
+            if stalled > MAX_STALLED or len(events) > MAX_EVENTS:
+                raise RuntimeError(f"no progress at t = {t!r} s ({fired})")
+            m = int(np.searchsorted(times, t_end, side="left"))
+            if m > k:
+                _fill(s, r, out, np.arange(k, m), sol.sol(times[k:m]), y, st)
+                k = m
+            _bookkeep(s, r, y, y_end, st)
+            y[:] = y_end
+            t = t_end
+            if fired is not None:
+                _event(s, r, y, st, fired)
+                _decide(s, r, y, st, events, t, fired)
+        while pending and pending[0][0] == t_next:
+            _, kind, value = pending.pop(0)
+            if kind == "q":
+                st["q"] = float(value)
+            else:
+                _strike(s, r, y, st, float(value))
+            _decide(s, r, y, st, events, t, kind)
+    if k < times.size:
+        _fill(s, r, out, np.arange(k, times.size), np.repeat(y[:, None], times.size - k, 1),
+              y, st)
+    for name in ("pipe_mode", "plug_mode"):
+        out[name] = out[name].astype(int)
+    return out
+
+
+def _strike(s, r, y, st, v):
+    """A strike: the ram at the head, unloaded cushion, at ``v``; a direct strike faster than
+    the head hits it at once."""
+    if st["c"] in (LOAD, UNLOAD):
+        st["w_c"] += r.force(st["c"], y[4], st["dmax"]) ** 2 / (2.0 * r.ku)
+    st["w_ram"] += 0.5 * r.m * (v * v - y[5] ** 2)
+    y[4], y[5] = 0.0, v
+    st.update(dmax=0.0, struck=True, vscale=0.0, c=FREE)
+    if r.k == 0.0 and v > y[1]:
+        _impact(s, r, y, st)
+
+
+def _impact(s, r, y, st):
+    w = y[5] - y[1]
+    st["vscale"] = max(st["vscale"], w)
+    mu = r.m * s.M1 / (r.m + s.M1)
+    if w <= PLASTIC * st["vscale"]:
+        y[1] = y[5] = (r.m * y[5] + s.M1 * y[1]) / (r.m + s.M1)
+        st["w_c"] += 0.5 * mu * w * w
+        return
+    j = (1.0 + r.e) * mu * w
+    y[1] += j / s.M1
+    y[5] -= j / r.m
+    st["w_c"] += 0.5 * (1.0 - r.e ** 2) * mu * w * w
+
+
+def _decide(s, r, y, st, events, t, cause):
+    """Choose the contact modes at ``t`` (after snapping in :func:`_event`)."""
+    q = st["q"]
+    c = FREE
+    if st["struck"]:
+        if r.k > 0.0:
+            touch = (1.0 - r.e ** 2) * st["dmax"]
+            closing = y[5] - y[1]
+            if y[4] >= st["dmax"] and (closing > 0.0 or y[4] > 0.0):
+                c = LOAD if closing > 0.0 else UNLOAD
+            elif y[4] > touch or (y[4] >= touch and closing > 0.0):
+                c = UNLOAD
+        elif y[4] >= 0.0 and y[5] == y[1]:
+            c = RIDE
+    force = r.force(c, y[4], st["dmax"])
+    pipe_sign = int(np.sign(y[1])) or st["kick1"]
+    rel_sign = (int(np.sign(y[1] - y[3])) or st["kick2"]) if s.plug else 0
+    p, rr, _, _ = coulomb_modes(s, q + force, y[0], pipe_sign, rel_sign)
+    if c == RIDE:
+        a_alone = _accel(s, r, q, p, rr, FREE, 0.0)[0]
+        if not a_alone < 0.0:
+            c = FREE
+        else:
+            heavy = System.__new__(System)
+            heavy.__dict__.update(s.__dict__)
+            heavy.M1 = s.M1 + r.m
+            p, rr, _, _ = coulomb_modes(heavy, q, y[0], pipe_sign, rel_sign)
+    if p == 0:
+        y[1] = 0.0
+    if rr == 0 and s.plug:
+        y[3] = y[1]
+    if c == RIDE:
+        y[5] = y[1]
+    st.update(p=p, rr=rr, c=c, kick1=0, kick2=0)
+    events.append((t, f"{cause}: pipe {p:+d}, plug {rr:+d}, ram {c}"))
+
+
+def _accel(s, r, q, p, rr, c, force):
+    """(a1, a2, a_ram) in modes (p, rr, c) under the cushion's ``force``."""
+    F1 = s.c1_full
+    if p == 0:
+        a1 = 0.0
+        a2 = rr * s.c2 / s.M2 if rr else 0.0
+    elif rr == 0:
+        mass = s.M1 + s.M2 + (r.m if c == RIDE else 0.0)
+        a1 = (q - p * F1 + force) / mass
+        a2 = a1 if s.plug else 0.0
+    else:
+        a1 = (q - p * F1 - rr * s.c2 + force) / (s.M1 + (r.m if c == RIDE else 0.0))
+        a2 = rr * s.c2 / s.M2
+    a_ram = a1 if c == RIDE else -force / r.m
+    return a1, a2, a_ram
+
+
+def _piece(s, r, y, st, t, tb, times, k, rtol):
+    q, p, rr, c, dmax = st["q"], st["p"], st["rr"], st["c"], st["dmax"]
+
+    def rhs(_, z):
+        force = r.force(c, z[4], dmax)
+        a1, a2, a_ram = _accel(s, r, q, p, rr, c, force)
+        return (z[1], a1, z[3], a2 if s.plug else 0.0, z[5] - z[1], a_ram)
+
+    evs = []
+
+    def add(fun, direction, name):
+        def event(tt, z):
+            g = fun(z)
+            return -direction * 1e-300 if g == 0.0 and tt == t else g
+        event.terminal, event.direction, event.name = True, direction, name
+        evs.append(event)
+
+    if p != 0:
+        add(lambda z: z[1], -p, "pipe stops")
+    if rr != 0:
+        add(lambda z: z[1] - z[3], -rr, "plug sticks")
+    if p == 0 and c in (LOAD, UNLOAD):
+        f2 = -rr * s.c2
+        add(lambda z: s.c1_full - (q + r.force(c, z[4], dmax) + f2), -1, "pipe breaks away +")
+        add(lambda z: s.c1_full + (q + r.force(c, z[4], dmax) + f2), -1, "pipe breaks away -")
+    if p != 0 and rr == 0 and s.plug and c in (LOAD, UNLOAD):
+        def required(z):
+            return s.M2 * _accel(s, r, q, p, 0, c, r.force(c, z[4], dmax))[0]
+        add(lambda z: s.c2 - required(z), -1, "plug breaks away +")
+        add(lambda z: s.c2 + required(z), -1, "plug breaks away -")
+    if c == LOAD:
+        add(lambda z: z[5] - z[1], -1, "largest compression")
+    if c == UNLOAD:
+        touch = (1.0 - r.e ** 2) * dmax
+        add(lambda z: z[4] - touch, -1, "cushion unloaded")
+        add(lambda z: z[4] - dmax, 1, "reloading")
+    touch = (1.0 - r.e ** 2) * dmax if r.k > 0.0 else 0.0
+    if c == FREE and st["struck"]:
+        add(lambda z: z[4] - touch, 1, "ram reaches the head")
+        # the compression's largest value: a crossing of ``touch`` and back within one step
+        # of the integrator hides from the event above; it shows past this one
+        add(lambda z: z[5] - z[1], -1, "closest approach")
+        evs[-1].terminal = False
+    tiny = 1e-3 * rtol
+    scale_v = max(abs(y[1]), abs(y[3]), abs(y[5]), 1.0)
+    atol = tiny * np.array([scale_v * (tb - t + 1e-9), scale_v, scale_v * (tb - t + 1e-9),
+                            scale_v, scale_v * (tb - t + 1e-9), scale_v])
+    sol = solve_ivp(rhs, (t, tb), y.copy(), method="DOP853", events=evs or None, rtol=rtol,
+                    atol=atol, dense_output=True)
+    if sol.status < 0:
+        raise RuntimeError(sol.message)
+    t_end, y_end, name = tb, sol.y[:, -1].copy(), None
+    if sol.status == 1:
+        i = next(i for i, te in enumerate(sol.t_events) if len(te) and evs[i].terminal)
+        t_end, y_end, name = float(sol.t_events[i][-1]), sol.y_events[i][-1].copy(), evs[i].name
+    for i, event in enumerate(evs):
+        if event.name == "closest approach" and y[4] < touch:
+            hidden = [tt for tt, z in zip(sol.t_events[i], sol.y_events[i])
+                      if tt <= t_end and z[4] >= touch]
+            if hidden:
+                t_end = brentq(lambda tt: sol.sol(tt)[4] - touch, t, hidden[0], xtol=1e-300,
+                               rtol=4.0 * np.finfo(float).eps)
+                y_end, name = sol.sol(t_end), "ram reaches the head"
+    return t_end, y_end, name, sol
+
+
+def _event(s, r, y, st, fired):
+    """Snap the state onto the event that ended a piece."""
+    dmax = st["dmax"]
+    if fired == "pipe stops":
+        y[1] = 0.0
+        if st["rr"] == 0 and s.plug:
+            y[3] = 0.0
+        if st["c"] == RIDE:
+            y[5] = 0.0
+    elif fired == "plug sticks":
+        m1 = s.M1 + (r.m if st["c"] == RIDE else 0.0)
+        moving = st["p"] != 0
+        y[1] = y[3] = (m1 * y[1] + s.M2 * y[3]) / (m1 + s.M2) if moving else y[1]
+        if st["c"] == RIDE:
+            y[5] = y[1]
+    elif fired.startswith("pipe breaks away"):
+        st["kick1"] = 1 if fired.endswith("+") else -1
+    elif fired.startswith("plug breaks away"):
+        st["kick2"] = 1 if fired.endswith("+") else -1
+    elif fired == "largest compression":
+        st["dmax"] = y[4]
+        y[5] = y[1]
+    elif fired == "cushion unloaded":
+        y[4] = (1.0 - r.e ** 2) * dmax
+    elif fired == "reloading":
+        y[4] = dmax
+    elif fired == "ram reaches the head":
+        y[4] = (1.0 - r.e ** 2) * dmax if r.k > 0.0 else 0.0
+        if r.k == 0.0 and y[5] > y[1]:
+            _impact(s, r, y, st)
+
+
+def _bookkeep(s, r, y0, y1, st):
+    """Works over a piece from ``y0`` to ``y1``."""
+    d1 = y1[0] - y0[0]
+    st["w_in"] += st["q"] * d1
+    st["w_fo"] += abs(st["p"]) * s.c1_full * abs(d1)
+    if st["rr"]:
+        st["w_fi"] += s.c2 * abs((y1[0] - y1[2]) - (y0[0] - y0[2]))
+    if st["c"] == LOAD:
+        st["w_c"] += 0.5 * (1.0 - r.e ** 2) * r.k * (y1[4] ** 2 - y0[4] ** 2)
+        st["dmax"] = max(st["dmax"], y1[4])
+
+
+def _fill(s, r, out, idx, ys, y0, st):
+    """Outputs at samples ``idx`` with states ``ys`` (6 x n) inside the piece from ``y0``."""
+    u1, v1, u2, v2, d, vr = ys
+    c = st["c"]
+    force = np.array([max(r.force(c, x, max(st["dmax"], x) if c == LOAD else st["dmax"]), 0.0)
+                      for x in np.atleast_1d(d)])
+    if c == RIDE:
+        force = np.full(d.shape, max(0.0, -r.m * _accel(s, r, st["q"], st["p"], st["rr"], c,
+                                                          0.0)[0]))
+    d1 = u1 - y0[0]
+    w_c = st["w_c"] + (0.5 * (1.0 - r.e ** 2) * r.k * (d * d - y0[4] ** 2) if c == LOAD else 0.0)
+    w_fi = st["w_fi"] + (s.c2 * np.abs((u1 - u2) - (y0[0] - y0[2])) if st["rr"] else 0.0)
+    values = dict(v_pipe=v1, v_plug=v2 if s.plug else 0.0 * v1, u_pipe=u1,
+                  u_plug=u2 if s.plug else 0.0 * u1, v_ram=vr, F_head=st["q"] + force,
+                  W_input=st["w_in"] + st["q"] * d1,
+                  W_friction=st["w_fo"] + abs(st["p"]) * s.c1_full * np.abs(d1) + w_fi,
+                  W_cushion=w_c + 0.0 * u1,
+                  E_strain=force ** 2 / (2.0 * r.ku) if r.k > 0.0 else 0.0 * u1,
+                  E_kinetic=0.5 * (s.M1 * v1 ** 2 + s.M2 * v2 ** 2 + r.m * vr ** 2),
+                  W_ram=st["w_ram"] + 0.0 * u1, pipe_mode=st["p"] + 0.0 * u1,
+                  plug_mode=st["rr"] + 0.0 * u1)
+    for name, value in values.items():
+        out[name][idx] = value
+

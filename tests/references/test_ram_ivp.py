@@ -1,0 +1,126 @@
+"""The ODE reference of rigid model I with a ram (pipeplug_references.ram_ivp): its accuracy against
+closed forms derived by hand, and the exact solver against it on random strikes.
+
+Closed forms (see tests/core/rigid/test_exact_ram.py for their derivation): the half sine
+``F = v0 sqrt(k mu) sin(omega t)`` of a cushion on a free mass, the parting velocities
+``(m - e M) v0 / (m + M)`` and ``(1 + e) m v0 / (m + M)`` of a cushion or an impact with
+restitution e and its loss ``(1 - e^2) mu v0^2 / 2``, and the accumulation point of a Zeno
+sequence of direct impacts on a pipe decelerated by friction F1.
+
+Measured (default tolerances): the reference against the closed forms <= 1e-12 of their
+scales; the exact solver against the reference on random strikes (cushions, direct impacts,
+plugs, soil friction, loads of both signs) <= 4e-11 of each family's scale (velocities,
+displacements, energies), asserted 1e-9.
+"""
+from __future__ import annotations
+
+import ast
+import inspect
+import math
+
+import numpy as np
+import pytest
+
+from pipeplug import OUTPUT_NAMES, build_model
+from pipeplug_references import ram_ivp
+from pipeplug_references.ram_ivp import simulate_ram
+from pipeplug_references.rigid_ivp import System
+
+FREE = {"tau1": 0.0, "tau2": 0.0, "L2": 0.0}
+M1 = System(FREE, False).M1
+V0 = 5.0
+
+
+@pytest.mark.parametrize("e", [1.0, 0.6])
+def test_a_cushion_on_a_free_mass(e):
+    m, k = 2.0 * M1, 3e6
+    mu = m * M1 / (m + M1)
+    omega = math.sqrt(k / mu)
+    t = np.linspace(0.0, 1.5 * math.pi / omega, 301)[1:]
+    out = simulate_ram(FREE, dict(mass=m, k=k, e=e), [(0.0, "strike", V0)], t)
+    peak = V0 * math.sqrt(k * mu)
+    loading = t <= 0.5 * math.pi / omega
+    assert np.abs(out["F_head"][loading] - peak * np.sin(omega * t[loading])).max() <= 1e-12 * peak
+    parting = (1.0 + e) * math.pi / (2.0 * omega)
+    away = np.abs(t - parting) > 1e-9 * parting
+    assert np.all(out["F_head"][away & (t > parting)] == 0.0)
+    assert np.all(out["F_head"][away & (t < parting)] > 0.0)
+    assert out["v_ram"][-1] == pytest.approx((m - e * M1) / (m + M1) * V0, rel=1e-12)
+    assert out["v_pipe"][-1] == pytest.approx((1.0 + e) * m / (m + M1) * V0, rel=1e-12)
+    assert out["W_cushion"][-1] == pytest.approx(0.5 * (1 - e * e) * mu * V0 ** 2,
+                                                 rel=1e-12, abs=1e-13 * mu * V0 ** 2)
+
+
+def test_a_direct_impact_and_a_zeno_sequence():
+    e, m, tau1 = 0.5, 40.0 * M1, 2e4
+    params = dict(FREE, tau1=tau1)
+    F1 = System(params, False).c1_full
+    T = 2.0 * e * V0 / ((1.0 - e) * F1 / M1)
+    v_star = (m * V0 - F1 * T) / (m + M1)
+    moved = (m * V0 * T - 0.5 * F1 * T * T) / (m + M1)
+    total = moved + v_star ** 2 * (m + M1) / (2.0 * F1)
+    t = np.array([1e-12, T * (1.0 + 1e-6), 200.0 * T])
+    out = simulate_ram(params, dict(mass=m, k=0.0, e=e), [(0.0, "strike", V0)], t)
+    assert out["v_pipe"][0] == pytest.approx((1.0 + e) * m / (m + M1) * V0, rel=1e-9)
+    assert out["v_ram"][1] == out["v_pipe"][1] == pytest.approx(v_star, rel=1e-6)
+    assert out["u_pipe"][-1] == pytest.approx(total, rel=1e-9)
+    assert out["W_cushion"][-1] == pytest.approx(0.5 * m * M1 / (m + M1) * V0 ** 2, rel=1e-9)
+
+
+def _random_case(rng):
+    params = dict(tau1=float(rng.choice([0.0, rng.uniform(0.0, 3e4)])),
+                  tau2=float(rng.choice([0.0, rng.uniform(0.0, 2e5)])),
+                  L2=float(rng.choice([0.0, rng.uniform(0.05, 1.0), 1.0])),
+                  rho2=float(10.0 ** rng.uniform(1.0, 4.0)))
+    ram = dict(mass=float(M1 * 10.0 ** rng.uniform(-1.0, 1.5)),
+               k=float(rng.choice([0.0, 10.0 ** rng.uniform(5.0, 8.0)])),
+               e=float(rng.choice([1.0, rng.uniform(0.2, 0.9)])))
+    history, t = [], 0.0
+    for _ in range(int(rng.integers(1, 4))):
+        t += float(10.0 ** rng.uniform(-4.0, -1.5))
+        history.append((t, "strike", float(rng.uniform(0.5, 8.0))) if rng.random() < 0.65
+                       else (t, "q", float(rng.uniform(-15e3, 15e3))))
+    return params, ram, history, t + float(rng.uniform(0.01, 0.2))
+
+
+def _core(params, ram, history, times):
+    model = build_model(dict(params, ram_mass=ram["mass"], cushion_stiffness=ram["k"],
+                             cushion_restitution=ram["e"]))
+    q, rows, pending = 0.0, [], list(history)
+    for t in sorted(set(times) | {h[0] for h in history}):
+        if t > model.time:
+            model.advance_to(q, t)
+        while pending and pending[0][0] == t:
+            _, kind, value = pending.pop(0)
+            if kind == "q":
+                q = value
+            else:
+                model.strike(value)
+        if t in times:
+            rows.append(model.outputs())
+    return {name: np.array([getattr(row, name) for row in rows]) for name in OUTPUT_NAMES}
+
+
+FAMILIES = (("v_pipe", "v_plug", "v_ram"), ("u_pipe", "u_plug"),
+            ("W_input", "W_friction", "W_cushion", "E_kinetic", "W_ram", "E_strain"))
+
+
+@pytest.mark.parametrize("seed", range(10))
+def test_the_exact_solver_agrees_with_the_reference_on_random_strikes(seed):
+    rng = np.random.default_rng(seed)
+    params, ram, history, stop = _random_case(rng)
+    times = np.unique(np.r_[np.linspace(0.0, stop, 200)[1:], rng.uniform(0.0, stop, 50)])
+    ref = simulate_ram(params, ram, history, times)
+    core = _core(params, ram, history, list(times))
+    for family in FAMILIES:
+        scale = max(np.abs(ref[n]).max() for n in family) or 1.0
+        for name in family:
+            assert np.abs(core[name] - ref[name]).max() <= 1e-9 * scale, name
+
+
+def test_imports_nothing_of_the_project():
+    tree = ast.parse(inspect.getsource(ram_ivp))
+    roots = {a.name.split(".")[0] for n in ast.walk(tree) if isinstance(n, ast.Import)
+             for a in n.names}
+    roots |= {n.module.split(".")[0] for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)}
+    assert roots <= {"__future__", "numpy", "scipy", "rigid_ivp"}
