@@ -19,6 +19,8 @@ from typing import NamedTuple, Protocol
 
 import numpy as np
 
+from .params import ParameterError
+
 __all__ = ["Output", "OUTPUTS", "OUTPUT_NAMES", "PER_STEP", "Outputs", "Model", "ModelBase",
            "LEDGER_SOURCES",
            "LEDGER_TERMS", "ledger_residual"]
@@ -155,6 +157,16 @@ class ModelBase:
     """
 
     time: float
+
+    def strike(self, velocity: float) -> None:
+        """Start a strike of the ram at ``velocity`` [m/s]; a model with a ram overrides this.
+
+        Raises
+        ------
+        ParameterError
+            Always: this model has no ram (``ram_mass = 0``, or a model that refuses one).
+        """
+        raise ParameterError("strikes", "an increase", "none without a ram (ram_mass > 0)")
 
     def advance(self, q: float, h: float) -> None:
         """Advance by ``h`` [s] > 0 under a constant struck-end force ``q`` [N]."""

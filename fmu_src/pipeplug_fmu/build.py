@@ -74,16 +74,18 @@ FMUS = {
 
 
 def build(dest: Path = DEFAULT_DEST) -> list[Path]:
-    """Build PipePlug.fmu at ``dest`` and, in its folder, Hammer.fmu and the system files.
+    """Build PipePlug.fmu at ``dest`` and, in its folder, Hammer.fmu and the system files (the
+    rectangular blows' beside the FMUs, the ram's in the subfolder ``ram``).
 
     Returns every path written, PipePlug.fmu's first.
     """
-    from .systems import write_systems
+    from .systems import RAM_FOLDER, ram_system, write_systems
 
     dest = Path(dest).resolve()
     pipeplug = build_fmu("PipePlug", dest)
     hammer = build_fmu("Hammer", dest.with_name("Hammer.fmu"))
-    return [pipeplug, hammer, *write_systems(dest.parent, pipeplug, hammer)]
+    return [pipeplug, hammer, *write_systems(dest.parent, pipeplug, hammer),
+            *write_systems(dest.parent / RAM_FOLDER, pipeplug, hammer, ram_system())]
 
 
 def build_fmu(identifier: str, dest: Path) -> Path:

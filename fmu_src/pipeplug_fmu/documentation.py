@@ -1,7 +1,7 @@
 """The FMU's ``documentation/index.html``, generated from the tables the FMU is registered from.
 
 The variable tables come from the core (:data:`pipeplug.OUTPUTS`, :data:`pipeplug.PARAMETERS`,
-:data:`pipeplug.OPTIONS`) and :mod:`pipeplug_fmu.fmi` (``INPUT``); only the equations are text.
+:data:`pipeplug.OPTIONS`) and :mod:`pipeplug_fmu.fmi` (``INPUTS``); only the equations are text.
 Used by :mod:`pipeplug_fmu.build` at build time; not shipped in the FMU.
 """
 from __future__ import annotations
@@ -151,9 +151,10 @@ def table(caption: str, header: tuple, rows) -> str:
 
 
 def _input_table() -> str:
-    name, unit, meaning = fmi.INPUT
-    return table("Input (Real, continuous)", ("name", "unit", "start", "meaning"),
-                  [(name, unit, 0, meaning)])
+    rows = [(name, unit or "-", kind, start, meaning)
+            for name, kind, unit, start, meaning in fmi.INPUTS]
+    return table("Inputs (Real continuous, Integer discrete)",
+                 ("name", "unit", "type", "start", "meaning"), rows)
 
 
 def _output_table() -> str:

@@ -1,6 +1,6 @@
 """Tables and helpers of the FMUs' interfaces, shipped beside each slave.
 
-PipePlug's input, default experiment and description; for both FMUs (PipePlug and Hammer) the
+PipePlug's inputs, default experiment and description; for both FMUs (PipePlug and Hammer) the
 unit definitions, the wording of refusals and the decoration of ``modelDescription.xml`` that
 pythonfmu 0.7 cannot write itself (``<UnitDefinitions>``, ``unit``, ``min``, ``max``). PipePlug's
 output, parameter and option rows come from the core's tables (:data:`pipeplug.OUTPUTS`,
@@ -16,14 +16,23 @@ from xml.etree.ElementTree import Element, SubElement
 DESCRIPTION = ("Percussive pipe ramming with a soil plug and Coulomb dry friction: rigid models "
                "I and II (exact or explicit solver) and elastic model III")
 
-#: The input: (name, unit, meaning).
-INPUT = ("Q", "N", "axial force on the struck end of the pipe (x = 0); positive drives the "
-                   "pipe into the soil; held constant over a communication step")
+#: The inputs: (name, FMI type, unit, start, meaning).
+INPUTS = (
+    ("Q", "Real", "N", 0.0, "axial force on the struck end of the pipe (x = 0); positive drives "
+                            "the pipe into the soil; held constant over a communication step"),
+    ("strikes", "Integer", None, 0,
+     "strikes of the ram so far: each increase (from 0 at the start) seen at a communication "
+     "point starts one strike there, at v_strike (with ram_mass > 0; else the step is "
+     "discarded); a decrease starts none"),
+    ("v_strike", "Real", "m/s", 0.0, "the ram's velocity when a strike starts (positive "
+                                     "towards the soil)"),
+)
 
-#: SI base-unit exponents of every unit used (for <UnitDefinitions>).
+#: SI base-unit exponents (and factor) of every unit used (for <UnitDefinitions>).
 UNITS = {"m": {"m": 1}, "s": {"s": 1}, "m/s": {"m": 1, "s": -1}, "kg/m3": {"kg": 1, "m": -3},
          "N": {"kg": 1, "m": 1, "s": -2}, "Pa": {"kg": 1, "m": -1, "s": -2},
-         "J": {"kg": 1, "m": 2, "s": -2}, "kg": {"kg": 1}, "N/m": {"kg": 1, "s": -2}, "1": {}}
+         "J": {"kg": 1, "m": 2, "s": -2}, "kg": {"kg": 1}, "N/m": {"kg": 1, "s": -2}, "1": {},
+         "1/min": {"s": -1, "factor": 1.0 / 60.0}}
 
 #: The default experiment written into modelDescription.xml: (start [s], stop [s], step [s]).
 DEFAULT_EXPERIMENT = (0.0, 0.1, 1e-4)

@@ -1,18 +1,18 @@
-"""Hammer: the FMI 2.0 co-simulation slave of a train of rectangular blows (pythonfmu).
+"""Hammer: the FMI 2.0 co-simulation slave of a train of rectangular blows or ram strikes.
 
 The train and its parameter table are :mod:`~pipeplug_fmu.blows`; this adapter registers them
 on the FMUs' FMI base (:mod:`pipeplug_fmu.base`: call sequence, refusals and FMU state, as for
 PipePlug), checks them at ``exitInitializationMode`` and sets its one output from the train at
 each communication point.
 
-Output timing: Q at the FMU's current time t is the force for the step that starts at t, so a
-host that steps Hammer and PipePlug on a grid containing the blow edges hands PipePlug the exact
-train with no one-step delay:
+Output timing: Q (and strikes) at the FMU's current time t is the value for the step that
+starts at t, so a host that steps Hammer and PipePlug on a grid containing the blow edges hands
+PipePlug the exact train with no one-step delay:
 
-* in initialization mode and right after ``exitInitializationMode``: Q = force(t_start), the
+* in initialization mode and right after ``exitInitializationMode``: the values at t_start, the
   start time of ``fmi2SetupExperiment`` (from the parameter values set so far; 0 while they are
   invalid);
-* after ``doStep(t, h)``: Q = force(t + h), the force on [t + h, next point).
+* after ``doStep(t, h)``: the values at t + h, for the step on [t + h, next point).
 
 Like PipePlug it keeps its own time and adopts the host's within ``1e-9 max(1, |t|)``.
 
@@ -26,7 +26,7 @@ from xml.etree.ElementTree import Element, SubElement
 from pythonfmu import DefaultExperiment, Fmi2Causality, Fmi2Initial, Fmi2Variability
 
 from .base import FmiBase, Phase, Refuse
-from .blows import DEFAULT_EXPERIMENT, DESCRIPTION, OUTPUT, PARAMETERS, BlowTrainError, check
+from .blows import DEFAULT_EXPERIMENT, DESCRIPTION, OUTPUTS, PARAMETERS, BlowTrainError, check
 
 
 class Hammer(FmiBase):
@@ -40,14 +40,22 @@ class Hammer(FmiBase):
         self.default_experiment = DefaultExperiment(*DEFAULT_EXPERIMENT)
 
     def _register(self) -> None:
-        name, unit, meaning = OUTPUT
-        # Q is initial="calculated": it depends on the parameters (an InitialUnknown).
-        self._q = self._add("Real", name, 0.0, unit, meaning, Fmi2Causality.output,
-                            Fmi2Variability.discrete, Fmi2Initial.calculated)
+        # Q, the rectangular train's parameters, then the ram's outputs: the value references
+        # of the first FMU (Q and the train) stay what they were.
+        self._outputs = {}
+        self._add_outputs(OUTPUTS[:1])
         for p in PARAMETERS:
             self._add(p.kind, p.name, p.default, p.unit,
                       f"{p.description} [allowed: {p.allowed}]", Fmi2Causality.parameter,
-                      Fmi2Variability.fixed, bounds=(p.lower, None), allowed=p.allowed)
+                      Fmi2Variability.fixed, bounds=(p.lower, p.upper), allowed=p.allowed)
+        self._add_outputs(OUTPUTS[1:])
+
+    def _add_outputs(self, rows) -> None:
+        # initial="calculated": they depend on the parameters (InitialUnknowns).
+        for name, kind, unit, meaning in rows:
+            self._outputs[name] = self._add(kind, name, 0.0 if kind == "Real" else 0, unit,
+                                            meaning, Fmi2Causality.output,
+                                            Fmi2Variability.discrete, Fmi2Initial.calculated)
 
     # Hooks of the FMI base -----------------------------------------------------------------
     def _build(self, values: dict):
@@ -57,11 +65,11 @@ class Hammer(FmiBase):
             raise Refuse.of(exc.name, exc.value, exc.allowed) from None
 
     def _step(self, train, t: float, h: float) -> tuple:
-        return (train.force(t + h),)       # the force of the step starting at the host's t + h
+        return _values(train, t + h)       # for the step starting at the host's t + h
 
     def _refresh(self) -> None:
-        """Q before the first step: the force at the FMU's time (0 while the values are
-        invalid, which exitInitializationMode refuses)."""
+        """The outputs before the first step: the values at the FMU's time (0 while the
+        parameters are invalid, which exitInitializationMode refuses)."""
         train = self._model
         if self._phase not in (Phase.STEPPING, Phase.TERMINATED):
             try:
@@ -69,7 +77,9 @@ class Hammer(FmiBase):
                                for p in PARAMETERS})
             except BlowTrainError:
                 train = None
-        self._reals[self._q] = train.force(self._time) if train is not None else 0.0
+        values = _values(train, self._time) if train is not None else (0.0, 0, 0.0)
+        for (name, kind, _, _), value in zip(OUTPUTS, values):
+            self._tables[kind][self._outputs[name]] = value
 
     # modelDescription.xml (build time only) ----------------------------------------------
     def to_xml(self, model_options=None):
@@ -77,6 +87,12 @@ class Hammer(FmiBase):
 
         root = super().to_xml(model_options)
         root.set("version", pipeplug.__version__)
-        SubElement(root.find("ModelStructure"), "InitialUnknowns").append(
-            Element("Unknown", index=str(self._q + 1)))
+        unknowns = SubElement(root.find("ModelStructure"), "InitialUnknowns")
+        for vr in self._outputs.values():
+            unknowns.append(Element("Unknown", index=str(vr + 1)))
         return root
+
+
+def _values(train, t: float) -> tuple:
+    """The outputs (Q, strikes, v_strike) of ``train`` for the step starting at ``t`` [s]."""
+    return train.force(t), train.strikes(t), train.v_strike

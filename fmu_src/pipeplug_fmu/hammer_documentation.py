@@ -21,7 +21,13 @@ Q(t) = amplitude   if start + k period &lt;= t &lt; start + k period + duration
                    for some k &gt;= 0 (and k &lt; count when count &gt; 0)
 Q(t) = 0           otherwise
 </pre>
-<p>Q is right-continuous: at a blow edge it takes the value after the edge. A time within
+<p>With <code>ram_mass</code> &gt; 0 Hammer strikes with a ram instead (for PipePlug's own
+ram, of the same mass): Q = 0, strike k (k = 0, 1, ...; k &lt; count when count &gt; 0) starts at
+<code>start + 60 k / blows_per_minute</code>, the output <code>strikes</code> counts the strikes
+started at or before t, and <code>v_strike = sqrt(2 efficiency rated_energy / ram_mass)</code>.
+Connect <code>strikes</code> and <code>v_strike</code> to PipePlug's inputs of the same names:
+each increase PipePlug sees at a communication point starts a strike there.</p>
+<p>Q and strikes are right-continuous: at a blow edge it takes the value after the edge. A time within
 1e-9 max(1, |t|) of an edge counts as on the edge, so hosts whose communication points are
 k h, accumulated sums or integer nanoseconds (libcosim) land on the edges their grid
 contains.</p>
@@ -29,7 +35,8 @@ contains.</p>
 
 _TIMING = """
 <h2>Output timing</h2>
-<p>Q at the FMU's current time t is the force for the communication step that starts at t:</p>
+<p>Q (and strikes) at the FMU's current time t is the value for the communication step that
+starts at t:</p>
 <ul>
 <li>in initialization mode and after fmi2ExitInitializationMode: Q = Q(t_start), the start time
 given to fmi2SetupExperiment (during initialization, from the parameter values set so far);</li>
@@ -85,9 +92,9 @@ def documentation_html() -> str:
 
 
 def _output_table() -> str:
-    name, unit, meaning = blows.OUTPUT
-    return table("Output (Real, discrete, initial calculated)", ("name", "unit", "meaning"),
-                  [(name, unit, meaning)])
+    rows = [(name, kind, unit or "-", meaning) for name, kind, unit, meaning in blows.OUTPUTS]
+    return table("Outputs (discrete, initial calculated)", ("name", "type", "unit", "meaning"),
+                 rows)
 
 
 def _parameter_table() -> str:

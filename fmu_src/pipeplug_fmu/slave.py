@@ -27,7 +27,7 @@ from pythonfmu import DefaultExperiment, Fmi2Causality, Fmi2Initial, Fmi2Variabi
 
 from . import pipeplug as core
 from .base import Discard, FmiBase, Refuse, conformity
-from .fmi import DEFAULT_EXPERIMENT, DESCRIPTION, INPUT, refusal
+from .fmi import DEFAULT_EXPERIMENT, DESCRIPTION, INPUTS, refusal
 
 for _module in pkgutil.walk_packages(core.__path__, core.__name__ + "."):
     importlib.import_module(_module.name)        # every model kind, now (see the docstring)
@@ -36,6 +36,8 @@ _C, _V = Fmi2Causality, Fmi2Variability
 _KIND_OF_OUTPUT = {"Real": ("Real", _V.continuous, 0.0), "Integer": ("Integer", _V.discrete, 0),
                    "Boolean": ("Boolean", _V.discrete, False)}
 _MODES = {o.name for o in core.OUTPUTS if o.kind == "Integer"}
+_SEEN = "fmu_strikes_seen"     # the adapter's own field in an FMU state
+_ALLOWED_INPUT = {"Q": "finite [N]", "strikes": "an Integer", "v_strike": "finite [m/s]"}
 
 
 class PipePlug(FmiBase):
@@ -50,9 +52,13 @@ class PipePlug(FmiBase):
         self.default_experiment = DefaultExperiment(*DEFAULT_EXPERIMENT)
 
     def _register(self) -> None:
-        name, unit, meaning = INPUT
-        self._q = self._add("Real", name, 0.0, unit, meaning, _C.input, _V.continuous,
-                            allowed="finite [N]")
+        self._inputs = {
+            name: self._add(kind, name, start, unit, meaning, _C.input,
+                            _V.continuous if kind == "Real" else _V.discrete,
+                            allowed=_ALLOWED_INPUT[name])
+            for name, kind, unit, start, meaning in INPUTS}
+        self._q = self._inputs["Q"]
+        self._strikes_seen = 0      # the strikes counter the model has acted on
         for out in core.OUTPUTS:
             kind, variability, start = _KIND_OF_OUTPUT[out.kind]
             self._add(kind, out.name, start, out.unit, out.meaning, _C.output, variability,
@@ -70,6 +76,7 @@ class PipePlug(FmiBase):
     def _build(self, values: dict):
         params = {p.name: values[p.name] for p in core.PARAMETERS}
         options = {name: values[name] for name in core.OPTIONS}
+        self._strikes_seen = 0      # a counter that rose before the first step strikes then
         try:
             # The exact rigid solver runs as plain Python here: a whole run is faster without
             # numba's import (README, "Performance of the FMU"); elastic kernels compile.
@@ -85,23 +92,36 @@ class PipePlug(FmiBase):
         q = self._reals[self._q]
         if not q - q == 0.0:                                   # NaN or infinite
             raise Discard.of("Q", q, "finite [N]")
+        strikes = self._tables["Integer"][self._inputs["strikes"]]
+        struck = strikes > self._strikes_seen
+        saved = model.get_state() if struck else None
         try:
+            if struck:
+                # One strike for any rise: strikes at one instant are one strike.
+                model.strike(self._reals[self._inputs["v_strike"]])
             # From the host's point to the host's next point: hosts computing t = k h and
             # t += h both get outputs at exactly their own points, and a Q they switch acts at
             # their instant (the model keeps no clock of its own).
             model.advance_to(q, t + h, t)
         except core.ParameterError as exc:          # a step the core cannot take: unchanged
+            if saved is not None:
+                model.set_state(saved)
             raise Discard(refusal(exc.name, exc.value, exc.allowed)) from None
+        self._strikes_seen = strikes
         return model.outputs()
 
     def _save(self, model) -> dict:
-        return {k: (v.copy() if hasattr(v, "copy") else v) for k, v in model.get_state().items()}
+        state = {k: (v.copy() if hasattr(v, "copy") else v) for k, v in model.get_state().items()}
+        state[_SEEN] = self._strikes_seen
+        return state
 
     def _load(self, model, saved: dict) -> None:
-        wrong = conformity(model.get_state(), saved)
+        wrong = conformity(dict(model.get_state(), **{_SEEN: 0}), saved)
         if wrong is not None:
             raise Refuse.of("FMUstate", wrong, "the state of a model of these parameters")
-        model.set_state({k: (v.copy() if hasattr(v, "copy") else v) for k, v in saved.items()})
+        model.set_state({k: (v.copy() if hasattr(v, "copy") else v) for k, v in saved.items()
+                         if k != _SEEN})
+        self._strikes_seen = int(saved[_SEEN])
 
     @classmethod
     def _model_to_bytes(cls, saved: dict) -> bytes:

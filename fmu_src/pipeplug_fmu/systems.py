@@ -1,7 +1,8 @@
 """The pipe-ramming system: Hammer.fmu driving PipePlug.fmu, written as SSP and as OSP files.
 
-Two components, ``Hammer`` and ``PipePlug``, with Hammer's output ``Q`` connected to PipePlug's
-input ``Q``, a fixed communication step and every parameter's value:
+Two components, ``Hammer`` and ``PipePlug``, with Hammer's outputs ``Q``, ``strikes`` and
+``v_strike`` connected to PipePlug's inputs of the same names (:data:`CONNECTED`), a fixed
+communication step and every parameter's value:
 
 * ``PipeRamming.ssp`` (SSP 1.0): ``SystemStructure.ssd`` with both FMUs inside the archive under
   ``resources/``. libcosim (``ssp_parser.cpp``, ``ssp_loader.cpp``) reads the step size only from
@@ -21,7 +22,7 @@ input ``Q``, a fixed communication step and every parameter's value:
   ``x_monitor``, the struck end when x_monitor = 0), Hammer's Q as a Force. Hammer is a force
   source with no velocity input, so there is no port of Hammer's to bond to PipePlug's, and OSP-IS
   allows a VariableGroupConnection only between groups of one type: the connection is the
-  variable connection Hammer.Q -> PipePlug.Q. (libcosim refuses a group connection of Hammer's
+  variable connection Hammer.Q -> PipePlug.Q (and strikes, v_strike). (libcosim refuses a group connection of Hammer's
   Force to PipePlug's whole port, "different size [0] than ... [2]"; it accepts one to the port's
   nested Force group, which makes the same scalar connection.)
 
@@ -31,6 +32,12 @@ tau1 = 4e4 Pa under three of Hammer's default blows (23 kN for 50 ms every 0.2 s
 blow drives pipe and plug (model I, domain I: both slide, the plug overtakes) and both come to
 rest (the pipe 0.105 s, the plug 0.171 s after the blow starts) before the next blow: three
 equal sets. (With tau1 = 2e4 Pa a blow's motion would last 0.265 s and the blows would pile up.)
+
+The ram system (:func:`ram_system`, written into ``ram/`` beside the FMUs) is the same pipe
+struck by a 50 kg ram through a cushion of 2e7 N/m (restitution 0.8): Hammer in ram mode with
+a rated energy of 400 J at an efficiency of 0.8 (v_strike = sqrt(2 * 0.8 * 400 / 50) =
+3.578 m/s), 300 blows per minute (one every 0.2 s), three strikes, stepped at 1 ms (every
+strike instant is a grid point) from 0 to 0.6 s.
 """
 from __future__ import annotations
 
@@ -45,7 +52,7 @@ from . import blows
 
 __all__ = ["System", "default_system", "write_systems", "ssd_xml", "write_ssp", "osp_xml",
            "osp_model_description_xml", "SSP_NAME", "OSP_NAME", "COMPONENTS", "GROUPS", "Group",
-           "grid_misses"]
+           "grid_misses", "ram_system", "CONNECTED", "RAM_FOLDER"]
 
 SSP_NAME = "PipeRamming.ssp"
 OSP_NAME = "OspSystemStructure.xml"
@@ -55,6 +62,12 @@ COMPONENTS = {"Hammer": "Hammer", "PipePlug": "PipePlug"}
 DEFAULT_OVERRIDES = {"PipePlug": {"tau1": 4.0e4}, "Hammer": {"count": 3}}
 DEFAULT_STEP = 1e-3      # [s]; contains every edge of the default train
 DEFAULT_STOP = 0.6       # [s]; three blows and the rest after the last
+#: The ram system's values that differ from the FMUs' defaults (see the module docstring).
+RAM_OVERRIDES = {"PipePlug": {"tau1": 4.0e4, "ram_mass": 50.0, "cushion_stiffness": 2.0e7,
+                              "cushion_restitution": 0.8},
+                 "Hammer": {"count": 3, "ram_mass": 50.0, "rated_energy": 400.0,
+                            "efficiency": 0.8, "blows_per_minute": 300.0}}
+RAM_FOLDER = "ram"       # the ram system's files, beside the FMUs
 
 _SSD_NAMESPACES = {
     "xmlns:ssd": "http://ssp-standard.org/SSP1/SystemStructureDescription",
@@ -65,8 +78,9 @@ _SSD_NAMESPACES = {
 _OSP_NAMESPACE = "http://opensimulationplatform.com/MSMI/OSPSystemStructure"
 _OSP_MD_NAMESPACE = "https://open-simulation-platform.com/OspModelDescription/1.0.0"
 _UNITS = {"N": {"kg": 1, "m": 1, "s": -2}, "m/s": {"m": 1, "s": -1}}   # SI base exponents
-#: The connected variables' SSD connectors: component -> (name, kind, FMI type, unit).
-_CONNECTORS = {"Hammer": ("Q", "output", "Real", "N"), "PipePlug": ("Q", "input", "Real", "N")}
+#: Hammer's outputs connected to PipePlug's inputs of the same name: (name, FMI type, unit).
+CONNECTED = (("Q", "Real", "N"), ("strikes", "Integer", None), ("v_strike", "Real", "m/s"))
+_KIND = {"Hammer": "output", "PipePlug": "input"}
 
 
 @dataclass(frozen=True)
@@ -86,15 +100,24 @@ class System:
 
 def default_system() -> System:
     """The documented default system (see the module docstring), every value explicit."""
+    return _system(DEFAULT_OVERRIDES, "PipeRamming")
+
+
+def ram_system() -> System:
+    """The documented ram system (see the module docstring), every value explicit."""
+    return _system(RAM_OVERRIDES, "PipeRammingRam")
+
+
+def _system(overrides: dict, name: str) -> System:
     from pipeplug import OPTIONS, PARAMETERS
 
     pipeplug = {p.name: float(p.default) for p in PARAMETERS}
     pipeplug.update({name: default for name, (_, default, _) in OPTIONS.items()})
-    pipeplug.update(DEFAULT_OVERRIDES["PipePlug"])
+    pipeplug.update(overrides["PipePlug"])
     hammer = {p.name: p.default for p in blows.PARAMETERS}
-    hammer.update(DEFAULT_OVERRIDES["Hammer"])
+    hammer.update(overrides["Hammer"])
     return System(pipeplug=pipeplug, hammer=hammer, start=0.0, stop=DEFAULT_STOP,
-                  step=DEFAULT_STEP)
+                  step=DEFAULT_STEP, name=name)
 
 
 def grid_misses(system: System) -> list[float]:
@@ -103,10 +126,10 @@ def grid_misses(system: System) -> list[float]:
     train = blows.check(system.hammer)
     misses, k = [], 0
     while True:
-        on = train.start + k * train.period
-        if on > system.stop or (train.count and k >= train.count):
+        edges = train.edges(k)
+        if edges[0] > system.stop or (train.count and k >= train.count):
             return misses
-        for edge in (on, on + train.duration):
+        for edge in edges:
             steps = (edge - system.start) / system.step
             if system.start <= edge <= system.stop and abs(steps - round(steps)) > 1e-9:
                 misses.append(edge)
@@ -158,16 +181,18 @@ def ssd_xml(system: System) -> str:
     root = Element("ssd:SystemStructureDescription",
                    {**_SSD_NAMESPACES, "version": "1.0", "name": system.name})
     sys_node = SubElement(root, "ssd:System", name=system.name,
-                          description="Hammer.fmu drives PipePlug.fmu: Hammer.Q -> PipePlug.Q")
+                          description="Hammer.fmu drives PipePlug.fmu: Hammer.Q -> PipePlug.Q, "
+                                      "strikes and v_strike likewise")
     elements = SubElement(sys_node, "ssd:Elements")
     for component in COMPONENTS:
         node = SubElement(elements, "ssd:Component", name=component,
                           type="application/x-fmu-sharedlibrary",
                           source=f"resources/{component}.fmu")
-        name, kind, fmi_type, unit = _CONNECTORS[component]
-        connector = SubElement(SubElement(node, "ssd:Connectors"), "ssd:Connector", name=name,
-                               kind=kind)
-        SubElement(connector, f"ssc:{fmi_type}", unit=unit)
+        connectors = SubElement(node, "ssd:Connectors")
+        for name, fmi_type, unit in CONNECTED:
+            connector = SubElement(connectors, "ssd:Connector", name=name,
+                                   kind=_KIND[component])
+            SubElement(connector, f"ssc:{fmi_type}", **({} if unit is None else {"unit": unit}))
         binding = SubElement(SubElement(node, "ssd:ParameterBindings"), "ssd:ParameterBinding")
         parameter_set = SubElement(SubElement(binding, "ssd:ParameterValues"), "ssv:ParameterSet",
                                    version="1.0", name=f"{component}_parameters")
@@ -177,11 +202,13 @@ def ssd_xml(system: System) -> str:
             SubElement(SubElement(parameters, "ssv:Parameter", name=pname), f"ssv:{kind_of}",
                        value=text)
     connections = SubElement(sys_node, "ssd:Connections")
-    SubElement(connections, "ssd:Connection", startElement="Hammer", startConnector="Q",
-               endElement="PipePlug", endConnector="Q")
+    for name, _, _ in CONNECTED:
+        SubElement(connections, "ssd:Connection", startElement="Hammer", startConnector=name,
+                   endElement="PipePlug", endConnector=name)
     units = SubElement(root, "ssd:Units")
-    unit = SubElement(units, "ssc:Unit", name="N")
-    SubElement(unit, "ssc:BaseUnit", {k: str(v) for k, v in _UNITS["N"].items()})
+    for name in sorted({unit for _, _, unit in CONNECTED if unit is not None}):
+        unit = SubElement(units, "ssc:Unit", name=name)
+        SubElement(unit, "ssc:BaseUnit", {k: str(v) for k, v in _UNITS[name].items()})
     experiment = SubElement(root, "ssd:DefaultExperiment", startTime=_real(system.start),
                             stopTime=_real(system.stop))
     annotation = SubElement(SubElement(experiment, "ssd:Annotations"), "ssc:Annotation",
@@ -207,9 +234,11 @@ def osp_xml(system: System, sources: dict) -> str:
         for name, value in system.values(component).items():
             kind, text = _typed(value)
             SubElement(SubElement(initial, "InitialValue", variable=name), kind, value=text)
-    connection = SubElement(SubElement(root, "Connections"), "VariableConnection")
-    SubElement(connection, "Variable", simulator="Hammer", name="Q")
-    SubElement(connection, "Variable", simulator="PipePlug", name="Q")
+    connections = SubElement(root, "Connections")
+    for name, _, _ in CONNECTED:
+        connection = SubElement(connections, "VariableConnection")
+        SubElement(connection, "Variable", simulator="Hammer", name=name)
+        SubElement(connection, "Variable", simulator="PipePlug", name=name)
     return _document(root)
 
 

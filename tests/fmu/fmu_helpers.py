@@ -28,6 +28,9 @@ CONTRACT_PARAMETERS = {
     "ram_mass": ("kg", 0.0, 0.0, None), "cushion_stiffness": ("N/m", 0.0, 0.0, None),
     "cushion_restitution": ("1", 1.0, 0.0, 1.0),
 }
+#: The contract's inputs: name -> (type, unit, variability).
+CONTRACT_INPUTS = {"Q": ("Real", "N", "continuous"), "strikes": ("Integer", None, "discrete"),
+                   "v_strike": ("Real", "m/s", "continuous")}
 CONTRACT_OPTIONS = {"contact_growth": ("Boolean", "false"), "elastic": ("Boolean", "false"),
                     "solver": ("String", "exact")}
 #: Output name -> (type, unit), from the contract's table.

@@ -212,6 +212,57 @@ def standalone(fmu_dir):
     return {"core_visible_before": visible, "v_pipe": rows[-1]["v_pipe"]}
 
 
+def strikes(fmu_dir, params, times, schedule, save_index=None):
+    """Step through ``times`` under Q = 0 with the inputs ``strikes`` and ``v_strike`` set
+    before the step starting at ``schedule``'s times ({"t": [strikes, v_strike]}): the status
+    and outputs (with the ram's) after each step. With ``save_index``, the state after that
+    step is saved, the run finished, the state restored and the rest run again with the same
+    inputs ("again")."""
+    slave = Slave(fmu_dir, "strikes")
+    if slave.start(params):
+        raise RuntimeError("initialization refused")
+    plan = {float(t): value for t, value in schedule.items()}
+
+    def run(pairs):
+        rows = []
+        for a, b in pairs:
+            if a in plan:
+                slave.set("strikes", int(plan[a][0]))
+                slave.set("v_strike", float(plan[a][1]))
+            status = slave.call("doStep", a, b - a)
+            row = dict(slave.outputs(), status=status, **{
+                name: slave.get(name) for name in ("v_ram", "W_ram", "W_cushion", "E_kinetic",
+                                                   "F_head")})
+            rows.append(row)
+        return rows
+
+    pairs = list(zip(times[:-1], times[1:]))
+    if save_index is None:
+        return {"rows": run(pairs)}
+    first = run(pairs[:save_index + 1])
+    snapshot = slave.fmu.getFMUstate()
+    rest = run(pairs[save_index + 1:])
+    slave.fmu.setFMUstate(snapshot)
+    again = run(pairs[save_index + 1:])      # the same inputs again: the same strikes
+    return {"rows": first + rest, "again": again}
+
+
+def strike_without_ram(fmu_dir, params, h):
+    """A rise of strikes without a ram: the status and log of that doStep(0, h), u_pipe after
+    it, then the status of the same step again once the counter is put back, and its time."""
+    slave = Slave(fmu_dir, "noram")
+    slave.start(params)
+    slave.set("Q", 1e4)
+    slave.set("strikes", 1)
+    refused = slave.call("doStep", 0.0, h)
+    at_refusal = list(LOG)
+    u_after = slave.get("u_pipe")
+    slave.set("strikes", 0)
+    again = slave.call("doStep", 0.0, h)
+    return {"refused": refused, "log_at_refusal": at_refusal, "u_after": u_after,
+            "again": again, "u_again": slave.get("u_pipe")}
+
+
 def main() -> None:
     name, fmu_dir, kwargs = sys.argv[1], sys.argv[2], json.loads(sys.argv[3])
     if name.startswith("cosim"):

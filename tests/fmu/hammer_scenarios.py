@@ -39,6 +39,24 @@ def sequence(fmu_dir, params, times, stop=None):
     return {"status": status, "in_init": in_init, "q": q}
 
 
+def ram_sequence(fmu_dir, params, times):
+    """(Q, strikes, v_strike) right after exitInitializationMode and after each doStep along
+    ``times`` (times[0]: the start time)."""
+    slave = Slave(fmu_dir, "hammer")
+    slave.call("setupExperiment", None, times[0], None)
+    slave.call("enterInitializationMode")
+    for name, value in params.items():
+        slave.set(name, value)
+    status = slave.call("exitInitializationMode")
+    rows = [[slave.get(n) for n in ("Q", "strikes", "v_strike")]]
+    for a, b in zip(times[:-1], times[1:]):
+        if slave.call("doStep", a, b - a):
+            raise RuntimeError(f"doStep({a!r}, {b - a!r}) refused")
+        rows.append([slave.get(n) for n in ("Q", "strikes", "v_strike")])
+    slave.close()
+    return {"status": status, "rows": rows, "log": LOG}
+
+
 def refusals(fmu_dir, kind, value=None):
     """One refused call of ``kind``: its status and log; then the instance's later calls, a
     reset, and a second instance stepping normally in the same process."""

@@ -137,6 +137,7 @@ class Expected:
     env: dict = field(default_factory=dict)
     enabled: bool = True          # False: waits for the core's limit of internal steps
     then_q: float = 23e3          # Q of the step taken after a discard [N]
+    then_set: tuple = ()          # (name, value) the host sets before that step
 
 
 # Probes ------------------------------------------------------------------------------------------
@@ -168,6 +169,18 @@ def stepped(t, h, q=23e3, params=None, stop=None, first_q=23e3):
         ident = s.running(params, stop)
         assert s.step(ident, 0.0, 0.005, first_q)["status"] == 0
         return s.step(ident, t, h, q), ident
+    return probe
+
+
+def struck(v_strike, params=None):
+    """A strike (strikes 0 -> 1 at v_strike) for the step from 5 ms, after one at rest."""
+    def probe(s: Session):
+        ident = s.running(params)
+        assert s.step(ident, 0.0, 0.005, 0.0)["status"] == 0
+        for name, value in (("v_strike", v_strike), ("strikes", 1)):
+            answer = s.set(ident, name, value)
+            assert answer["status"] == 0 and answer["log"] == [], answer
+        return s.call(ident, "doStep", "0.005", "0.005"), ident
     return probe
 
 
@@ -325,6 +338,15 @@ PROBES = {
     "zero step": (stepped(0.005, 0.0), Expected(DISCARD, ("communicationStepSize = 0.0",))),
     "NaN step": (stepped(0.005, float("nan")), Expected(DISCARD, ("communicationStepSize",))),
     "past stopTime": (stepped(0.005, 0.01, stop=0.01), Expected(ERROR, ("0.015", "stopTime"))),
+    "strike without a ram": (struck(3.0), Expected(DISCARD, ("strikes = 'an increase'",
+                                                             "ram_mass > 0"),
+                                                   then_set=(("strikes", 0),))),
+    "NaN v_strike": (struck(float("nan"), {"ram_mass": 50.0}),
+                     Expected(DISCARD, ("v_strike = nan", "finite"),
+                              then_set=(("v_strike", 3.0),))),
+    "infinite v_strike, elastic": (struck(float("inf"), {"ram_mass": 50.0, "elastic": True}),
+                                   Expected(DISCARD, ("v_strike = inf", "finite"),
+                                            then_set=(("v_strike", 3.0),))),
     "huge Q": (stepped(0.005, 0.005, 1e200), Expected(ERROR, ("W_input = inf", "finite"))),
     # (the first step at rest costs nothing; after the discard the run goes on at rest)
     "fd dt = 1e-300": (stepped(0.005, 0.005, params={"solver": "fd", "dt": 1e-300},

@@ -9,6 +9,7 @@ from pathlib import Path
 
 import pytest
 from fmu_helpers import (
+    CONTRACT_INPUTS,
     CONTRACT_OPTIONS,
     CONTRACT_OUTPUTS,
     CONTRACT_PARAMETERS,
@@ -58,7 +59,7 @@ def test_default_experiment(md):
 
 
 def test_exactly_the_contract_variables(variables):
-    expected = {"Q"} | set(CONTRACT_OUTPUTS) | set(CONTRACT_PARAMETERS) | set(CONTRACT_OPTIONS)
+    expected = set(CONTRACT_INPUTS) | set(CONTRACT_OUTPUTS) | set(CONTRACT_PARAMETERS) | set(CONTRACT_OPTIONS)
     assert set(variables) == expected
 
 
@@ -79,9 +80,11 @@ def test_units_are_si_and_defined(md, variables):
 
 
 def test_input_and_outputs(variables):
-    q, q_type = variables["Q"]
-    assert (q.get("causality"), q.get("variability"), q_type.tag) == ("input", "continuous",
-                                                                      "Real")
+    for name, (kind, unit, variability) in CONTRACT_INPUTS.items():
+        var, typ = variables[name]
+        assert (var.get("causality"), var.get("variability"), typ.tag) == (
+            "input", variability, kind), name
+        assert typ.get("unit") == unit and float(typ.get("start")) == 0.0, name
     for name, (kind, unit) in CONTRACT_OUTPUTS.items():
         var, typ = variables[name]
         assert (var.get("causality"), var.get("initial")) == ("output", "exact"), name

@@ -65,7 +65,7 @@ def test_probe_is_refused_with_one_line_and_the_host_goes_on(name, host, logging
     if expected.status == ERROR:
         _refuses_until_reset(session, ident)
     elif expected.status == DISCARD:
-        _steps_on(session, ident, expected.then_q)
+        _steps_on(session, ident, expected.then_q, expected.then_set)
     else:
         _instantiates_again(session)
     _another_instance_runs(session)
@@ -88,8 +88,12 @@ def _refuses_until_reset(s: Session, ident) -> None:
     assert s.step(ident, 0.0, 0.001) == {"status": 0, "kind": "none", "words": [], "log": []}
 
 
-def _steps_on(s: Session, ident, q: float) -> None:
-    """After fmi2Discard: nothing changed, the next step from the FMU's time is taken."""
+def _steps_on(s: Session, ident, q: float, settings=()) -> None:
+    """After fmi2Discard: nothing changed, the next step from the FMU's time is taken (once the
+    host has set ``settings``, (name, value) pairs)."""
+    for name, value in settings:
+        answer = s.set(ident, name, value)
+        assert answer["status"] == 0 and answer["log"] == [], answer
     assert s.step(ident, 0.005, 0.005, q) == {"status": 0, "kind": "none", "words": [],
                                                "log": []}
 

@@ -14,7 +14,12 @@ from fmu_helpers import run_scenario
 #: The contract's Hammer parameters: name -> (type, unit, default). Copied from the contract.
 CONTRACT = {"amplitude": ("Real", "N", 23000.0), "duration": ("Real", "s", 0.05),
             "period": ("Real", "s", 0.2), "count": ("Integer", None, 1),
-            "start": ("Real", "s", 0.0)}
+            "start": ("Real", "s", 0.0),
+            # the ram mode (names of the project's own; the contract names what they mean)
+            "ram_mass": ("Real", "kg", 0.0), "rated_energy": ("Real", "J", 0.0),
+            "efficiency": ("Real", "1", 1.0), "blows_per_minute": ("Real", "1/min", 60.0)}
+#: Outputs: name -> (type, unit).
+OUTPUTS = {"Q": ("Real", "N"), "strikes": ("Integer", None), "v_strike": ("Real", "m/s")}
 ERROR, DISCARD = 3, 2
 NS = 10 ** 9
 #: A train whose numbers are not the defaults: a pull (negative force) starting late.
@@ -59,19 +64,29 @@ def test_model_description_per_contract(md):
                  "canSerializeFMUstate"):
         assert cs.get(flag) == "true", flag
     variables = {v.get("name"): v for v in md.find("ModelVariables")}
-    assert set(variables) == {"Q", *CONTRACT}
-    units = {u.get("name"): {k: int(x) for k, x in u.find("BaseUnit").attrib.items()}
+    assert set(variables) == {*OUTPUTS, *CONTRACT}
+    # The first Hammer's value references stay: Q 0, amplitude 1, ..., start 5.
+    refs = {name: int(v.get("valueReference")) for name, v in variables.items()}
+    assert [refs[n] for n in ("Q", "amplitude", "duration", "period", "count", "start")] == [
+        0, 1, 2, 3, 4, 5]
+    units = {u.get("name"): {k: float(x) for k, x in u.find("BaseUnit").attrib.items()}
              for u in md.find("UnitDefinitions")}
-    assert units == {"N": {"kg": 1, "m": 1, "s": -2}, "s": {"s": 1}}
-    q = variables["Q"]
-    assert (q.get("causality"), q[0].tag, q[0].get("unit")) == ("output", "Real", "N")
-    assert q.get("initial") == "calculated" and q[0].get("start") is None   # from parameters
+    assert units == {"N": {"kg": 1, "m": 1, "s": -2}, "s": {"s": 1}, "kg": {"kg": 1},
+                     "J": {"kg": 1, "m": 2, "s": -2}, "1": {}, "m/s": {"m": 1, "s": -1},
+                     "1/min": {"s": -1, "factor": pytest.approx(1 / 60, rel=1e-15)}}
+    for name, (kind, unit) in OUTPUTS.items():
+        q = variables[name]
+        assert (q.get("causality"), q[0].tag, q[0].get("unit")) == ("output", kind, unit)
+        assert q.get("initial") == "calculated" and q[0].get("start") is None  # from parameters
+    unknowns = [int(u.get("index")) - 1 for u in md.find("ModelStructure/InitialUnknowns")]
+    assert sorted(unknowns) == sorted(refs[n] for n in OUTPUTS)
     for name, (kind, unit, default) in CONTRACT.items():
         var = variables[name]
         assert (var.get("causality"), var.get("variability"), var[0].tag) == (
             "parameter", "fixed", kind), name
         assert var[0].get("unit") == unit and float(var[0].get("start")) == default, name
         assert len(var.get("description", "")) > 10, name
+    assert float(variables["efficiency"][0].get("max")) == 1.0
     exp = md.find("DefaultExperiment")
     start, stop, step = (float(exp.get(k)) for k in ("startTime", "stopTime", "stepSize"))
     assert start == 0.0 and stop > start and 0.0 < step < stop
@@ -155,6 +170,23 @@ def test_defaults_are_one_blow_of_the_contract(hammer_dir):
     assert q == [23000.0] * 50 + [0.0] * 151
 
 
+def test_ram_mode_counts_strikes_at_their_instants(hammer_dir):
+    """ram_mass > 0: Q = 0, strikes counts the strikes started at or before t (one every
+    60 / blows_per_minute s from start, count of them), v_strike = sqrt(2 eta E / m)."""
+    params = {"ram_mass": 3000.0, "rated_energy": 30000.0, "efficiency": 0.6,
+              "blows_per_minute": 240.0, "count": 3, "start": 0.05}
+    times = _grids(50_000_000, 20)["t += h"]            # 50 ms steps: every strike on the grid
+    result = run_scenario("ram_sequence", hammer_dir, script="hammer_scenarios.py",
+                          params=params, times=times)
+    assert result["status"] == 0
+    speed = (2 * 0.6 * 30000.0 / 3000.0) ** 0.5          # 3.4641 m/s
+    # strikes at 0.05, 0.30, 0.55 s: steps 1, 6 and 11 of 50 ms
+    want = [min(3, (k - 1) // 5 + 1) if k >= 1 else 0 for k in range(21)]
+    assert [row[1] for row in result["rows"]] == want
+    assert {row[0] for row in result["rows"]} == {0.0}
+    assert {row[2] for row in result["rows"]} == {speed}
+
+
 # Refusals ---------------------------------------------------------------------------------------
 #: id -> (kind, value, status, texts of the one log line)
 REFUSALS = {
@@ -180,6 +212,13 @@ REFUSALS = {
                                   ["currentCommunicationPoint = 0.5", "0.01"]),
     "zero step": ("zero_step", None, DISCARD, ["communicationStepSize = 0.0", "> 0"]),
     "past stopTime": ("past_stop", None, ERROR, ["0.03", "stopTime"]),
+    "efficiency above 1": ("parameters", {"efficiency": 1.5}, ERROR,
+                           ["efficiency = 1.5 is not allowed", "<= 1"]),
+    "a ram without energy": ("parameters", {"ram_mass": 100.0}, ERROR,
+                             ["rated_energy = 0.0 is not allowed", "> 0 with a ram",
+                              "ram_mass = 100.0"]),
+    "no blow rate": ("parameters", {"blows_per_minute": 0.0}, ERROR,
+                     ["blows_per_minute = 0.0", "> 0"]),
 }
 
 

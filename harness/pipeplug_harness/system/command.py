@@ -13,6 +13,7 @@ import math
 import time
 from pathlib import Path
 
+from pipeplug_fmu.fmi import INPUTS
 from pipeplug_harness import io
 from pipeplug_harness.errors import UserError
 from pipeplug_harness.paper import OUTPUT_UNITS
@@ -20,8 +21,9 @@ from pipeplug_harness.paper import OUTPUT_UNITS
 from .checks import check_system
 from .files import read_system
 
-#: units of the variables of the system's FMUs (PipePlug's table, and the force Q)
-UNITS = {**OUTPUT_UNITS, "Q": "N"}
+#: units of the variables of the system's FMUs: PipePlug's outputs and inputs (Q, strikes,
+#: v_strike), which are also the names of Hammer's outputs connected to them
+UNITS = {**OUTPUT_UNITS, **{name: unit or "1" for name, _, unit, _, _ in INPUTS}}
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -80,8 +82,11 @@ def main(args: argparse.Namespace) -> int:
     return 0
 
 
-_PANELS = (("force [kN]", ("Q",), 1e-3), ("velocity [m/s]", ("v_pipe", "v_plug"), 1.0),
+#: What each panel draws; a ram's head force and velocity only where the system has a ram.
+_PANELS = (("force [kN]", ("Q", "F_head"), 1e-3), ("velocity [m/s]", ("v_pipe", "v_plug", "v_ram"),
+                                                     1.0),
            ("displacement [m]", ("u_pipe", "u_plug"), 1.0))
+_RAM_ONLY = {"F_head", "v_ram"}
 #: How a piecewise-constant force is drawn from its values after each step: Hammer's Q at t is
 #: the force on [t, next point), PipePlug's input Q at t the force that acted up to t.
 _HELD = {"Hammer": dict(drawstyle="steps-post"), "PipePlug": dict(drawstyle="steps-pre",
@@ -95,7 +100,8 @@ def _plot(path: Path, result: dict, system, source) -> Path:
         for component in system.components.values():
             for variable in variables:
                 column = f"{component.name}.{variable}"
-                if column in result:
+                ram = float(component.values.get("ram_mass", 0.0) or 0.0) > 0.0
+                if column in result and (ram or variable not in _RAM_ONLY):
                     style = _HELD.get(component.model, {}) if variable == "Q" else {}
                     ax.plot(t_ms, result[column] * scale, label=column, **style)
         ax.set_ylabel(label)

@@ -25,6 +25,13 @@ OSP = "{http://opensimulationplatform.com/MSMI/OSPSystemStructure}"
 OSPMD = "{https://open-simulation-platform.com/OspModelDescription/1.0.0}"
 #: The documented default system (README, pipeplug_fmu.systems): values that are not defaults.
 DEFAULT_PIPEPLUG, DEFAULT_HAMMER = {"tau1": 4e4, "tau2": 1e4}, {"count": 3}
+#: Hammer's outputs connected to PipePlug's inputs of the same names (the contract's).
+CONNECTED = ("Q", "strikes", "v_strike")
+#: The documented ram system: PipePlug's values that are not defaults, its ram, Hammer's ram.
+RAM_PIPEPLUG = {"tau1": 4e4, "tau2": 1e4}
+RAM = {"mass": 50.0, "k": 2e7, "e": 0.8}
+RAM_HAMMER = {"ram_mass": 50.0, "rated_energy": 400.0, "efficiency": 0.8,
+              "blows_per_minute": 300.0, "count": 3}
 
 
 def _read_csv(path: Path) -> dict:
@@ -73,9 +80,9 @@ def test_built_ssp_holds_both_fmus_values_and_step(fmu_file, hammer_file):
     assert root.get("version") == "1.0"
     components = {c.get("name"): c for c in root.find(f"{SSD}System/{SSD}Elements")}
     assert set(components) == {"Hammer", "PipePlug"}
-    (connection,) = root.find(f"{SSD}System/{SSD}Connections")
-    assert [connection.get(k) for k in ("startElement", "startConnector", "endElement",
-                                        "endConnector")] == ["Hammer", "Q", "PipePlug", "Q"]
+    connections = root.find(f"{SSD}System/{SSD}Connections")
+    assert [[c.get(k) for k in ("startElement", "startConnector", "endElement", "endConnector")]
+            for c in connections] == [["Hammer", name, "PipePlug", name] for name in CONNECTED]
     values = {}
     for name, component in components.items():
         assert component.get("source") == f"resources/{name}.fmu"
@@ -96,9 +103,9 @@ def test_built_osp_files_declare_the_groups_and_the_connection(fmu_file):
     root = ET.parse(folder / "OspSystemStructure.xml").getroot()
     sources = {s.get("name"): s.get("source") for s in root.iter(f"{OSP}Simulator")}
     assert sources == {"Hammer": "Hammer.fmu", "PipePlug": "PipePlug.fmu"}
-    (connection,) = root.iter(f"{OSP}VariableConnection")
-    assert [(v.get("simulator"), v.get("name")) for v in connection] == [("Hammer", "Q"),
-                                                                         ("PipePlug", "Q")]
+    assert [[(v.get("simulator"), v.get("name")) for v in connection]
+            for connection in root.iter(f"{OSP}VariableConnection")] == [
+        [("Hammer", name), ("PipePlug", name)] for name in CONNECTED]
     port = ET.parse(folder / "PipePlug_OspModelDescription.xml").getroot().find(
         f"{OSPMD}VariableGroups/{OSPMD}LinearMechanicalPort")
     assert [(g.tag.split("}")[1], g[0].get("ref"), g[0].get("unit")) for g in port] == [
@@ -121,6 +128,54 @@ def test_built_system_runs_exactly_in_libcosim(fmu_file, pipeplug_cli, tmp_path,
     print(f"built {route}: worst error {max(errors.values()):.2e} of scale")
     png = (tmp_path / "out" / f"{path.stem}.png").read_bytes()
     assert png.startswith(b"\x89PNG") and len(png) > 20_000
+
+
+@pytest.mark.parametrize("route", ["ssp", "osp"])
+def test_built_ram_system_runs_exactly_in_libcosim(fmu_file, pipeplug_cli, tmp_path, route):
+    """The ram system as built (three strikes of a 50 kg ram through a cushion, 1 ms steps),
+    through ``pipeplug system``: Hammer's strikes reach PipePlug at their instants with
+    v_strike = sqrt(2 eta E / m), and PipePlug's outputs are those of the ODE reference of
+    model I with a ram (``pipeplug_references.ram_ivp``) within 1e-9 of each family's scale."""
+    from pipeplug_references.ram_ivp import simulate_ram
+
+    folder = fmu_file.parent / "ram"
+    path = folder / ("PipeRamming.ssp" if route == "ssp" else "OspSystemStructure.xml")
+    out = tmp_path / "out"
+    proc = pipeplug_cli("system", f"--{route}", path, "--out", out)
+    result = _read_csv(out / f"{path.stem}.csv")
+    times = result["time"]
+    assert times.size == 600 and times[-1] == 0.6, proc.stdout
+    period = 60.0 / RAM_HAMMER["blows_per_minute"]
+    speed = (2 * RAM_HAMMER["efficiency"] * RAM_HAMMER["rated_energy"]
+             / RAM_HAMMER["ram_mass"]) ** 0.5
+    # Hammer's strikes at t count those started at or before t (0, 0.2 and 0.4 s).
+    assert list(result["Hammer.strikes"]) == [min(3, int(np.floor(t / period + 1e-9)) + 1)
+                                              for t in times]
+    assert np.all(result["Hammer.v_strike"] == speed) and np.all(result["Hammer.Q"] == 0.0)
+    history = [(k * period, "strike", speed) for k in range(3)]
+    # The outputs at a strike's instant are those before it (it starts the next step); the
+    # reference samples there after it: ask it for the float just before.
+    before = np.array([np.nextafter(t, 0.0) if any(t == h[0] for h in history) else t
+                       for t in times])
+    ref = simulate_ram(dict(_defaults(), **RAM_PIPEPLUG), RAM, history, before)
+    worst = 0.0
+    for family in (("v_pipe", "v_plug", "v_ram"), ("u_pipe", "u_plug"),
+                   ("W_friction", "W_cushion", "E_kinetic", "W_ram")):
+        scale = max(np.abs(ref[n]).max() for n in family)
+        for name in family:
+            error = np.abs(result[f"PipePlug.{name}"] - ref[name]).max()
+            worst = max(worst, error / scale)
+            assert error <= 1e-9 * scale, (name, error / scale)
+    print(f"ram system ({route}): worst error {worst:.2e} of scale")
+    assert result["PipePlug.u_pipe"][-1] > 0.05        # three strikes drove the pipe
+    png = (out / f"{path.stem}.png").read_bytes()
+    assert png.startswith(b"\x89PNG") and len(png) > 20_000
+
+
+def _defaults() -> dict:
+    """The contract's defaults of the rigid parameters the reference takes (SI)."""
+    return {"L1": 1.0, "L2": 1.0, "R1": 0.035, "h1": 0.003, "rho1": 7800.0, "rho2": 1800.0,
+            "tau1": 0.0, "tau2": 1e4}
 
 
 # Each case, three hosts ---------------------------------------------------------------------------
