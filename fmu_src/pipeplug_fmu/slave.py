@@ -52,11 +52,10 @@ class PipePlug(FmiBase):
         self.default_experiment = DefaultExperiment(*DEFAULT_EXPERIMENT)
 
     def _register(self) -> None:
-        self._inputs = {
-            name: self._add(kind, name, start, unit, meaning, _C.input,
-                            _V.continuous if kind == "Real" else _V.discrete,
-                            allowed=_ALLOWED_INPUT[name])
-            for name, kind, unit, start, meaning in INPUTS}
+        # Q, the outputs, the parameters and options, then the ram's inputs: the value
+        # references of the FMU before the ram (Q 0, v_pipe 1, ...) stay.
+        self._inputs = {}
+        self._add_inputs(INPUTS[:1])
         self._q = self._inputs["Q"]
         self._strikes_seen = 0      # the strikes counter the model has acted on
         for out in core.OUTPUTS:
@@ -71,6 +70,13 @@ class PipePlug(FmiBase):
             shown = ", ".join(map(repr, allowed))
             self._add("Boolean" if isinstance(default, bool) else "String", name, default, None,
                       f"{meaning} [allowed: {shown}]", _C.parameter, _V.fixed, allowed=shown)
+        self._add_inputs(INPUTS[1:])
+
+    def _add_inputs(self, rows) -> None:
+        for name, kind, unit, start, meaning in rows:
+            self._inputs[name] = self._add(kind, name, start, unit, meaning, _C.input,
+                                           _V.continuous if kind == "Real" else _V.discrete,
+                                           allowed=_ALLOWED_INPUT[name])
 
     # Hooks of the FMI base -----------------------------------------------------------------
     def _build(self, values: dict):

@@ -95,7 +95,8 @@ class Clock:
 
     Grid points are ``origin + k h``; ``pending`` is the impulse of Q [N s] from grid point
     ``k`` to :attr:`time` (0 when the time is at or, by round-off, before the point), and
-    ``pending_load`` the force [N] that gave all of it (NaN when forces differed): a step whose
+    ``pending_load`` the force [N] that gave all of it (unless ``mixed``: forces differed; a
+    flag, not a NaN, so that a state holds only finite numbers): a step whose
     load did not change over it takes that force itself, not the mean its impulse would give
     to round-off, so that every host grid gives the grid points' results bit for bit.
     """
@@ -106,7 +107,8 @@ class Clock:
         self.started = False   #: the origin is fixed (the time was set once)
         self.k = 0             #: grid points stepped
         self.pending = 0.0     #: [N s]
-        self.pending_load = 0.0  #: [N], NaN for a mixed impulse
+        self.pending_load = 0.0  #: [N]
+        self.mixed = False     #: the pending impulse came from different forces
         self.time = 0.0        #: the model's time [s]
 
     def point(self, k: int) -> float:
@@ -120,7 +122,7 @@ class Clock:
     def first_load(self, q: float) -> float:
         """The force [N] of the step from grid point ``k`` when ``q`` [N] acts from the time
         on: ``q`` itself if it acted since the point, else the mean force of the interval."""
-        if self.time <= self.point(self.k) or self.pending_load == q:
+        if self.time <= self.point(self.k) or (not self.mixed and self.pending_load == q):
             return q
         return (self.pending + q * (self.point(self.k + 1) - self.time)) / self.h
 
@@ -130,15 +132,15 @@ class Clock:
         start = max(self.time, self.point(self.k))
         if t_end > start:
             if self.time <= self.point(self.k):
-                self.pending, self.pending_load = 0.0, q
+                self.pending, self.pending_load, self.mixed = 0.0, q, False
             elif self.pending_load != q:
-                self.pending_load = math.nan
+                self.mixed = True
             self.pending += q * (t_end - start)
         self.time = t_end
 
     def passed(self, k_end: int) -> None:
         """Grid points up to ``k_end`` were stepped: nothing pending."""
-        self.k, self.pending, self.pending_load = k_end, 0.0, 0.0
+        self.k, self.pending, self.pending_load, self.mixed = k_end, 0.0, 0.0, False
 
 
 class ElasticModel(ModelBase):
@@ -356,7 +358,8 @@ class ElasticModel(ModelBase):
         clock = self.clock
         state = {"time": clock.time, "origin": clock.origin, "started": clock.started,
                  "k": clock.k,
-                 "pending": clock.pending, "pending_load": clock.pending_load}
+                 "pending": clock.pending, "pending_load": clock.pending_load,
+                 "mixed": clock.mixed}
         state.update({name: getattr(self, name).copy() for name in _FIELDS})
         state["modes"] = np.array(self._modes, dtype=np.int64).reshape(-1, 2)
         return state
@@ -377,6 +380,7 @@ class ElasticModel(ModelBase):
         clock.started = bool(state["started"])
         clock.k, clock.pending = int(state["k"]), float(state["pending"])
         clock.pending_load = float(state["pending_load"])
+        clock.mixed = bool(state["mixed"])
 
 
 def _work(acc, index) -> float:

@@ -124,6 +124,24 @@ def test_restoring_a_state_twice_continues_bit_identically():
         elastic(dx=0.05).set_state(saved)
 
 
+def test_a_state_inside_a_mixed_impulse_holds_finite_numbers_and_continues():
+    """A load switched between grid points leaves an impulse of two forces pending: its state
+    (which an FMU refuses when it holds a non-finite number) is finite, and a model restored
+    to it continues as the original does."""
+    model = elastic(dx=0.05, tau1=3e4)
+    h = model.grid.h_max
+    model.advance_to(23000.0, 10.4 * h, 0.0)
+    model.advance_to(-5000.0, 10.7 * h)          # the pending impulse: two forces
+    saved = state_from_bytes(state_to_bytes(model.get_state()))
+    assert all(np.all(np.isfinite(np.asarray(v, dtype=float))) for v in saved.values())
+    model.advance_to(0.0, 30 * h)
+    after = model.outputs()
+    other = elastic(dx=0.05, tau1=3e4)
+    other.set_state(saved)
+    other.advance_to(0.0, 30 * h)
+    assert other.outputs() == after
+
+
 _PURE_PROBE = r"""
 import json, sys
 from pipeplug import build_model, jit
