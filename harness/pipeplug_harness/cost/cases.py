@@ -14,10 +14,11 @@ from functools import cached_property
 
 import numpy as np
 
+from pipeplug_harness.paper import RIGID_PARAMETERS, to_symbols
 from pipeplug_references.closed_form import Case, figure_cases, solution, stop_times
 
 #: model parameters of the core taken from a closed-form case (the pulse is the driver's)
-MODEL_KEYS = ("L1", "L2", "R1", "h1", "rho1", "rho2", "tau1", "tau2")
+MODEL_KEYS = RIGID_PARAMETERS
 #: samples per second of the common grid; 1/rate = 0.2 ms is the paper's step, t0 = 250 samples
 RATE = 5000
 #: samples of every case of the study: 2,000 at 0.2 ms, to T_END
@@ -128,8 +129,7 @@ def closed_form_reference(bench: BenchCase, times: np.ndarray | None = None) -> 
 
 def from_outputs(columns: dict) -> dict:
     """Core output names (v_pipe, ...) -> the study's keys (V1, ...)."""
-    names = {"V1": "v_pipe", "V2": "v_plug", "U1": "u_pipe", "U2": "u_plug"}
-    return {k: np.asarray(columns[n], dtype=float) for k, n in names.items()}
+    return to_symbols(columns)
 
 
 def relative_errors(result: dict, ref: dict) -> tuple[float, float]:

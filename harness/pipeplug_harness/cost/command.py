@@ -32,9 +32,11 @@ from pathlib import Path
 import numpy as np
 import scipy
 
-from ..bench.batch import TARGET as BATCH_TARGET
-from ..bench.batch import throughput
+from pipeplug_harness import io
+
 from . import report
+from .batch import TARGET as BATCH_TARGET
+from .batch import throughput
 from .cases import creep_cases, default_cases, quick_cases
 from .core import MIN_TIME, TIME_BUDGET
 from .creep import creep_sweep
@@ -53,6 +55,9 @@ from .sweep import (
 
 ROW_COLUMNS = ("method", "setting", "case", "max_rel_error", "max_rel_disp_error", "wall_s",
                "success")
+#: column -> unit of the CSV files
+UNITS = {"wall_s": "s", "step_s": "s", "eps": "m/s", "pipe_creep_m": "m", "plug_creep_m": "m",
+         "pipe_residual_v": "m/s", "plug_residual_v": "m/s", "creep_speed_theory": "m/s"}
 CREEP_COLUMNS = ("method", "eps", "case", "pipe_creep_m", "pipe_residual_v", "plug_creep_m",
                  "plug_residual_v", "creep_speed_theory", "wall_s", "success")
 
@@ -113,7 +118,7 @@ def run_study(config: Config) -> dict:
         progress("creep")
         creep = creep_sweep(config, creep_cases(config.cases))
     progress("batch throughput")
-    batch = throughput(config.batch_cases, rounds=3)
+    batch = throughput(config.batch_cases, repeat=3)
     return {"rows": rows, "elastic": elastic, "elastic_note": note, "comm": comm, "creep": creep,
             "batch": batch}
 
@@ -185,16 +190,17 @@ def markdown(config: Config, study: dict) -> str:
 def main(args) -> int:
     """Run the study, write the files into ``args.out``, print the report."""
     config = quick_config() if args.quick else default_config()
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    study = run_study(config)
-    report.write_csv(study["rows"] + study["elastic"], out / "cost.csv", ROW_COLUMNS)
-    report.write_csv(study["comm"], out / "cost_comm.csv", ROW_COLUMNS + ("step_s",))
-    report.write_csv(study["creep"], out / "cost_creep.csv", CREEP_COLUMNS)
-    families = [f for f in RIGID_FAMILIES if any(r["method"] == f for r in study["rows"])]
-    pareto_plot(study["rows"], families, len(config.cases), out / "cost_pareto.png")
-    creep_plot(study["creep"], out / "cost_creep.png")
-    text = markdown(config, study)
-    (out / "cost.md").write_text(text)
+    with io.OutputFolder(args.out, "cost") as out:
+        study = run_study(config)
+        io.write_records(out.file("cost.csv"), study["rows"] + study["elastic"], ROW_COLUMNS,
+                         UNITS)
+        io.write_records(out.file("cost_comm.csv"), study["comm"], ROW_COLUMNS + ("step_s",),
+                         UNITS)
+        io.write_records(out.file("cost_creep.csv"), study["creep"], CREEP_COLUMNS, UNITS)
+        families = [f for f in RIGID_FAMILIES if any(r["method"] == f for r in study["rows"])]
+        pareto_plot(study["rows"], families, len(config.cases), out.file("cost_pareto.png"))
+        creep_plot(study["creep"], out.file("cost_creep.png"))
+        text = markdown(config, study)
+        out.file("cost.md").write_text(text)
     print(text)
     return 0

@@ -4,6 +4,8 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+from pipeplug_harness import io
+
 from .front import TARGET, aggregate, pareto_front
 
 #: marker and colour of each family
@@ -11,22 +13,12 @@ STYLE = {"exact": ("*", "black"), "fd": ("s", "tab:blue"), "LSODA": ("o", "tab:o
          "odeint-LSODA": ("D", "tab:red"), "Radau": ("^", "tab:green"), "BDF": ("v", "tab:purple")}
 
 
-def _pyplot():
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
-
-
 def pareto_plot(rows: list[dict], families, n_cases: int, path: Path) -> None:
     """Largest error over the cases against their total wall time, log-log, one style per family.
 
     Every setting is a faint marker; each family's Pareto front is joined by a line.
     """
-    plt = _pyplot()
-    fig, ax = plt.subplots(figsize=(7.5, 5.0))
+    fig, ax = io.subplots(figsize=(7.5, 5.0))
     points = aggregate(rows)
     for family in families:
         own = [p for p in points if p["method"] == family and not math.isnan(p["max_rel_error"])]
@@ -48,8 +40,7 @@ def pareto_plot(rows: list[dict], families, n_cases: int, path: Path) -> None:
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8, loc="best")
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    io.save_png(fig, path, dpi=120)
 
 
 def creep_plot(rows: list[dict], path: Path) -> None:
@@ -58,8 +49,7 @@ def creep_plot(rows: list[dict], path: Path) -> None:
     Only the cases where a force acts on the stopped pipe (the plug still slides in it) creep;
     in the others the regularised velocity decays and nothing is drawn (see the table).
     """
-    plt = _pyplot()
-    fig, axes = plt.subplots(1, 2, figsize=(10.0, 4.2))
+    fig, axes = io.subplots(1, 2, figsize=(10.0, 4.2))
     reg = [r for r in rows if r["method"] != "exact" and r["creep_speed_theory"] > 0.0
            and r["pipe_creep_m"] > 0.0]
     cases = list(dict.fromkeys(r["case"] for r in reg))
@@ -86,5 +76,4 @@ def creep_plot(rows: list[dict], path: Path) -> None:
     fig.suptitle("Creep of regularised friction: the pipe is held by the soil while the plug "
                  "still slides in it", fontsize=11)
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    io.save_png(fig, path, dpi=120)

@@ -1,11 +1,11 @@
 """CSV files and the markdown report of the ``cost`` study."""
 from __future__ import annotations
 
-import csv
 import math
 import statistics
 from collections import defaultdict
-from pathlib import Path
+
+from pipeplug_harness.io import markdown_table
 
 from .front import (
     TARGET,
@@ -23,14 +23,6 @@ RATIO_TARGETS = (("LSODA", 20.0), ("Radau", 100.0), ("odeint-LSODA", None), ("BD
 MEDIAN_TARGET, EACH_TARGET = 20.0, 10.0
 
 
-def write_csv(rows: list[dict], path: Path, columns: tuple) -> None:
-    """Write `rows` (dicts) with the given `columns`, floats in full precision."""
-    with open(path, "w", newline="") as f:
-        writer = csv.DictWriter(f, fieldnames=columns, extrasaction="ignore")
-        writer.writeheader()
-        writer.writerows(rows)
-
-
 def _ms(seconds: float) -> str:
     return "not reached" if math.isnan(seconds) else f"{1e3 * seconds:.3g}"
 
@@ -40,8 +32,7 @@ def _e(value: float) -> str:
 
 
 def _table(header: list[str], lines: list[list[str]]) -> list[str]:
-    out = ["| " + " | ".join(header) + " |", "|" + "---|" * len(header)]
-    return out + ["| " + " | ".join(line) + " |" for line in lines]
+    return markdown_table(header, lines).splitlines()
 
 
 def headline(rows: list[dict], families) -> list[str]:

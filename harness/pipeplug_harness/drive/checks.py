@@ -82,15 +82,17 @@ def check_blow(limits: Limits, blow, out, t: float, steps: int) -> None:
         With one line naming the blow and the numbers.
     """
     n = blow.blow
-    terms = [getattr(out, name) for name in LEDGER_SOURCES + LEDGER_TERMS]
-    residual = ledger_residual(out)
+    # W_friction from its two parts, so that a part that is wrong shows in the ledger too
+    values = {**out._asdict(), "W_friction": out.W_friction_outer + out.W_friction_inner}
+    terms = [values[name] for name in LEDGER_SOURCES + LEDGER_TERMS]
+    residual = ledger_residual(values)
     internal = t / limits.h if limits.h else steps
     allowance = (LEDGER_BASE + LEDGER_PER_STEP * internal) * max(map(abs, terms))
     if not abs(residual) <= allowance:
         raise DriveInvalid(
             f"blow {n}: the energy ledger does not close: W_input = {out.W_input:.6g} J, "
             f"E_kinetic = {out.E_kinetic:.6g} J, E_strain = {out.E_strain:.6g} J, W_friction = "
-            f"{out.W_friction:.6g} J, W_numerical = {out.W_numerical:.6g} J leave "
+            f"{values['W_friction']:.6g} J, W_numerical = {out.W_numerical:.6g} J leave "
             f"{residual:.3g} J (allowed {allowance:.2g} J)")
     if not (out.E_kinetic >= 0.0 and out.E_strain >= 0.0):
         raise DriveInvalid(f"blow {n}: negative energy: E_kinetic = {out.E_kinetic:.6g} J, "

@@ -1,13 +1,13 @@
-"""Drive files: a whole drive described in TOML, read by the scene files' machinery.
+"""Drive files: a whole drive described in TOML (:data:`pipeplug_harness.spec.DRIVE`).
 
 A drive file has the scene sections ``[pipe]``, ``[plug]``, ``[soil]``, ``[blows]`` and ``[model]``
-(same keys and defaults, see :mod:`pipeplug_harness.scenes.file`) with these differences, and a
-``[drive]`` section::
+(same keys, units and rules, see :mod:`pipeplug_harness.scene.file`) with these differences, and
+a ``[drive]`` section::
 
     [soil]          tau1; contact_growth may only be true (the pipe starts at the soil face:
                     model II, penetration 0, no outer contact)
-    [blows]         amplitude [N], duration [s], period [s] (no count, no start: blow k starts
-                    at k * period)
+    [blows]         amplitude [N] > 0, duration [s], period [s] > duration, or rate (no count,
+                    no start: blow k starts at k * period)
     [model]         elastic = true | false | "auto"; solver dt dx courant (no x_monitor: the
                     drive monitors the pipe's front end, whose displacement is the penetration);
                     without dx, the elastic model takes the coarsest grid of at least
@@ -34,30 +34,19 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
-from pipeplug_harness.scenes.file import SECTIONS, SceneError, elastic_choice, read_sections
+from pipeplug_harness import spec as files
+from pipeplug_harness.errors import UserError
+from pipeplug_harness.limits import Limits
+from pipeplug_harness.session import split_start_values
 
-__all__ = ["DriveSpec", "DRIVE_SECTIONS", "DEFAULT_REFUSAL", "GRID_CELLS", "load_drive",
-           "drive_spec", "check_with_core", "grid_for"]
-
-_OPTION_NAMES = ("elastic", "contact_growth", "solver")
+__all__ = ["DriveSpec", "DEFAULT_REFUSAL", "GRID_CELLS", "load_drive", "drive_spec",
+           "check_with_core", "grid_for"]
 
 #: The default refusal of pile-driving practice: 10 blows per 25 mm.
 DEFAULT_REFUSAL = (10, 0.025)
 #: Without dx: at least this many cells along the pipe and along the blow's wave c1 td.
 GRID_CELLS = 20
 _GRID_TRIES = 10_000             # cell counts tried for one that fits L2 too
-
-#: section -> {key: (python type, default)}: the scene tables, narrowed, and [drive].
-DRIVE_SECTIONS = {
-    "pipe": SECTIONS["pipe"],
-    "plug": SECTIONS["plug"],
-    "soil": {"tau1": SECTIONS["soil"]["tau1"], "contact_growth": (bool, True)},
-    "blows": {k: SECTIONS["blows"][k] for k in ("amplitude", "duration", "period")},
-    "model": {k: v for k, v in SECTIONS["model"].items() if k != "x_monitor"},
-    "drive": {"target": (float, None), "refusal_set": (float, None),
-              "refusal_count": (int, None), "refusal_length": (float, None),
-              "max_blows": (int, 100_000), "step": (float, None)},
-}
 
 
 @dataclass(frozen=True)
@@ -95,34 +84,49 @@ class DriveSpec:
         return f"{self.refusal_count} blows advance < {self.refusal_length:g} m"
 
 
-def load_drive(path: str | Path) -> DriveSpec:
-    """Read, validate and check a drive file (see the module docstring)."""
+def load_drive(path, limits: Limits | None = None) -> DriveSpec:
+    """Read, validate, check with the core and bound a drive file (errors name the file)."""
     path = Path(path)
-    values = read_sections(path, DRIVE_SECTIONS, nested=("blows", "drive"))
-    return drive_spec(path.stem, values)
+    try:
+        return drive_spec(path.stem, files.read_file(path, files.DRIVE), limits)
+    except ValueError as exc:                 # UserError, or the core's ParameterError
+        raise _in_file(exc, path) from None
 
 
-def drive_spec(name: str, values: dict) -> DriveSpec:
-    """A :class:`DriveSpec` from checked sections (``values`` as :func:`read_sections` gives
-    them: the ``blows`` and ``drive`` sections nested, the rest flat)."""
+def _in_file(exc: ValueError, path) -> UserError:
+    if isinstance(exc, UserError):
+        return exc.in_file(path)
+    return UserError(str(exc), file=path)
+
+
+def drive_spec(name: str, values: dict, limits: Limits | None = None) -> DriveSpec:
+    """A :class:`DriveSpec` from checked sections (``values`` as :func:`pipeplug_harness.spec.
+    checked` gives them: ``blows`` and ``drive`` nested, the rest flat).
+
+    The blows follow the one rule set of blow trains, and a drive's own: they push (amplitude >
+    0), and each leaves the pipe a while before the next (period > duration).
+    """
     blows, drive = values.pop("blows"), values.pop("drive")
+    values.pop("checks", None)
     if values["contact_growth"] is not True:
-        raise SceneError("[soil] contact_growth = false; allowed: true (a drive starts at the "
-                         "soil face: model II, outer friction over the penetrated length)")
-    if not blows["period"] > blows["duration"]:
-        raise SceneError(f"[blows] period = {blows['period']!r} s; allowed: > duration "
-                         f"({blows['duration']!r} s)")
-    if not (blows["amplitude"] > 0.0 and math.isfinite(blows["amplitude"])):
-        raise SceneError(f"[blows] amplitude = {blows['amplitude']!r} N; allowed: > 0 (a blow "
-                         f"drives the pipe into the soil)")
-    elastic, reason = elastic_choice(values.pop("elastic"), values, blows["duration"])
+        raise UserError("[soil] contact_growth = false; allowed: true (a drive starts at the "
+                        "soil face: model II, outer friction over the penetrated length)")
+    period = files.period_of(blows)
+    if not period > blows["duration"]:
+        raise UserError(f"[blows] period = {period!r} s; allowed: > duration "
+                        f"({blows['duration']!r} s)")
+    train = files.blow_train({**blows, "count": 0})
+    if not train.amplitude > 0.0:
+        raise UserError(f"[blows] amplitude = {train.amplitude!r} N; allowed: > 0 (a blow "
+                        f"drives the pipe into the soil)")
+    elastic, reason = files.elastic_choice(values.pop("elastic"), values, train.duration)
     start = {k: v for k, v in values.items() if v is not None}
     start["elastic"] = elastic
     grid = ""
     if elastic:                                      # monitor the front end: penetration
         start["x_monitor"] = _params(start).L1
         if "dx" not in start:
-            start["dx"], grid = grid_for(_params(start), blows["duration"])
+            start["dx"], grid = grid_for(_params(start), train.duration)
         else:
             grid = "dx given"
     params = check_with_core(start)
@@ -131,16 +135,30 @@ def drive_spec(name: str, values: dict) -> DriveSpec:
         grid = _grid_text(params, grid)
     target = L1 if drive["target"] is None else drive["target"]
     if not 0.0 < target <= L1:
-        raise SceneError(f"[drive] target = {target!r} m; allowed: > 0 and <= L1 = {L1!r} m")
+        raise UserError(f"[drive] target = {target!r} m; allowed: > 0 and <= L1 = {L1!r} m")
     count, length = _refusal(drive)
-    step = blows["duration"] / 10.0 if drive["step"] is None else drive["step"]
+    step = train.duration / 10.0 if drive["step"] is None else drive["step"]
     for key, value, ok, allowed in (("max_blows", drive["max_blows"], drive["max_blows"] >= 1,
                                      ">= 1"),
                                     ("step", step, step > 0.0 and math.isfinite(step), "> 0")):
         if not ok:
-            raise SceneError(f"[drive] {key} = {value!r}; allowed: {allowed}")
-    return DriveSpec(name, start, blows["amplitude"], blows["duration"], blows["period"],
+            raise UserError(f"[drive] {key} = {value!r}; allowed: {allowed}")
+    _bound(limits or Limits(), params, elastic, train, step, drive["max_blows"])
+    return DriveSpec(name, start, train.amplitude, train.duration, train.period,
                      target, count, length, drive["max_blows"], step, reason, grid)
+
+
+def _bound(limits: Limits, params, elastic: bool, train, step: float, max_blows: int) -> None:
+    """Refuse a drive whose blows would take more steps or work than the limits allow."""
+    limits.check("blows", max_blows, f"[drive] max_blows = {max_blows}")
+    limits.check("steps", train.duration / step, f"[drive] step = {step!r} s over a blow of "
+                                                 f"{train.duration!r} s")
+    if elastic:
+        from pipeplug.elastic.grid import build_grid
+        g = build_grid(params)
+        limits.check("work", (g.n1 + g.n2) * train.period / g.h_max,
+                     f"each blow's window of the elastic model ({g.n1 + g.n2} cells, "
+                     f"{train.period / g.h_max:.3g} internal steps)")
 
 
 def grid_for(params, duration: float) -> tuple[float, str]:
@@ -150,7 +168,7 @@ def grid_for(params, duration: float) -> tuple[float, str]:
 
     Raises
     ------
-    SceneError
+    UserError
         When no such count is found among the next few thousand (L2 / L1 not a ratio of small
         integers): the file must give dx.
     """
@@ -163,7 +181,7 @@ def grid_for(params, duration: float) -> tuple[float, str]:
             return p.L1 / n, (f"dx chosen: the fewest cells >= {GRID_CELLS} along the pipe and "
                               f">= {GRID_CELLS} along the blow's wave c1 td = {wave:.4g} m that "
                               f"fit L1 and L2")
-    raise SceneError(f"[model] no dx given, and no grid of {least} to {least + _GRID_TRIES - 1} "
+    raise UserError(f"[model] no dx given, and no grid of {least} to {least + _GRID_TRIES - 1} "
                      f"cells fits both L1 = {p.L1!r} m and L2 = {p.L2!r} m; give dx (a length "
                      f"that divides both)")
 
@@ -182,19 +200,19 @@ def _refusal(drive: dict) -> tuple[int, float]:
     per_blow = drive["refusal_set"]
     count, length = drive["refusal_count"], drive["refusal_length"]
     if per_blow is not None and (count is not None or length is not None):
-        raise SceneError("[drive] give either refusal_set, or refusal_count and refusal_length "
+        raise UserError("[drive] give either refusal_set, or refusal_count and refusal_length "
                          "(blows per length), not both")
     if per_blow is not None:
         count, length = 1, per_blow
     elif count is None and length is None:
         count, length = DEFAULT_REFUSAL
     elif count is None or length is None:
-        raise SceneError("[drive] refusal_count and refusal_length go together (blows per "
+        raise UserError("[drive] refusal_count and refusal_length go together (blows per "
                          "length)")
     if count < 1:
-        raise SceneError(f"[drive] refusal_count = {count!r}; allowed: >= 1")
+        raise UserError(f"[drive] refusal_count = {count!r}; allowed: >= 1")
     if not (length >= 0.0 and math.isfinite(length)):
-        raise SceneError(f"[drive] refusal length = {length!r} m; allowed: >= 0 "
+        raise UserError(f"[drive] refusal length = {length!r} m; allowed: >= 0 "
                          f"(0: only a blow that does not move the pipe is a refusal)")
     return count, length
 
@@ -215,8 +233,7 @@ def check_with_core(start_values: dict):
     """
     from pipeplug import build_model
     from pipeplug.options import Options
-    options = Options.from_mapping({k: start_values[k] for k in _OPTION_NAMES
-                                    if k in start_values})
+    options = Options.from_mapping(split_start_values(start_values)[1])
     params = _params(start_values)
     build_model(params, options)
     return params
@@ -225,5 +242,4 @@ def check_with_core(start_values: dict):
 def _params(start_values: dict):
     """The core's Params from start values (options left out), not yet validated."""
     from pipeplug.params import Params
-    return Params.from_mapping({k: v for k, v in start_values.items()
-                                if k not in _OPTION_NAMES})
+    return Params.from_mapping(split_start_values(start_values)[0])

@@ -5,17 +5,12 @@ from pathlib import Path
 
 import numpy as np
 
+from pipeplug_harness import io
+
 from .report import INTERVAL, blows_per_interval
 from .run import OUTCOMES, DriveResult
 
 __all__ = ["plot_penetration", "plot_drivability"]
-
-
-def _pyplot():
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    return plt
 
 
 def _title(result: DriveResult) -> str:
@@ -28,8 +23,7 @@ def _title(result: DriveResult) -> str:
 
 def plot_penetration(path: Path, result: DriveResult) -> Path:
     """Front-end penetration [m] after each blow."""
-    plt = _pyplot()
-    fig, ax = plt.subplots(figsize=(7.5, 4.2))
+    fig, ax = io.subplots(figsize=(7.5, 4.2))
     blows = [b.blow for b in result.blows]
     ax.plot([0] + blows, [0.0] + [b.penetration for b in result.blows], lw=1.2)
     ax.axhline(result.spec.target, color="0.5", ls="--", lw=0.8, label="target")
@@ -39,17 +33,14 @@ def plot_penetration(path: Path, result: DriveResult) -> Path:
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="lower right")
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return io.save_png(fig, path)
 
 
 def plot_drivability(path: Path, result: DriveResult) -> Path:
     """Blows per 0.25 m of penetration against penetration (the last interval, where the drive
     stopped, drawn hatched over the part driven: its count is partial)."""
-    plt = _pyplot()
     starts, counts = blows_per_interval(result)
-    fig, ax = plt.subplots(figsize=(7.5, 4.2))
+    fig, ax = io.subplots(figsize=(7.5, 4.2))
     if counts.size:
         full = np.arange(counts.size) < counts.size - 1     # the drive stopped in the last
         ax.bar(starts[full], counts[full], width=INTERVAL, align="edge", color="C0",
@@ -65,6 +56,4 @@ def plot_drivability(path: Path, result: DriveResult) -> Path:
     ax.set_title(_title(result), fontsize=8)
     ax.grid(alpha=0.3)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return io.save_png(fig, path)

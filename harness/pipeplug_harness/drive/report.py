@@ -1,12 +1,13 @@
 """What a drive writes: the per-blow CSV, the drivability counts and the summary line."""
 from __future__ import annotations
 
-import csv
 import math
 from dataclasses import astuple, fields
 from pathlib import Path
 
 import numpy as np
+
+from pipeplug_harness import io
 
 from .run import OUTCOMES, Blow, DriveResult
 
@@ -23,14 +24,10 @@ COLUMNS = {"blow": "-", "t_start": "s", "set": "m", "penetration": "m", "v_pipe_
 assert tuple(COLUMNS) == tuple(f.name for f in fields(Blow))
 
 
-def write_csv(path: Path, result: DriveResult) -> None:
-    """One row per blow; works are the blow's own (its window's increments)."""
-    with open(path, "w", newline="") as fh:
-        writer = csv.writer(fh)
-        writer.writerow([f"{name} [{unit}]" if unit != "-" else name
-                         for name, unit in COLUMNS.items()])
-        for blow in result.blows:
-            writer.writerow([repr(v) if isinstance(v, float) else v for v in astuple(blow)])
+def write_csv(path: Path, result: DriveResult) -> Path:
+    """One row per blow, units in the header; works are the blow's own (its window's
+    increments)."""
+    return io.write_csv(path, list(COLUMNS), (astuple(blow) for blow in result.blows), COLUMNS)
 
 
 def blows_per_interval(result: DriveResult, width: float = INTERVAL):

@@ -33,9 +33,11 @@ import math
 from dataclasses import dataclass, field
 from typing import NamedTuple
 
+from pipeplug import OUTPUTS, Outputs
+from pipeplug_harness.session import CoreSession, FmuSession, Session
+
 from .checks import Limits, check_blow
 from .file import DriveSpec
-from .session import CoreSession, FmuSession, Reading, Session
 
 __all__ = ["Blow", "DriveResult", "run_drive", "run_drive_on_core", "drive_with", "OUTCOMES"]
 
@@ -47,7 +49,9 @@ OUTCOMES = {
     "max_blows": "stopped at max_blows, no refusal",
 }
 
-_ZERO = Reading(*[0.0] * 11, True)                                  # the state at t = 0
+#: the outputs at t = 0: at rest, nothing moved, no work done
+_ZERO = Outputs(*(True if o.kind == "Boolean" else 0 if o.kind == "Integer" else 0.0
+                  for o in OUTPUTS))
 
 
 @dataclass
@@ -91,7 +95,7 @@ class DriveResult:
 
 def run_drive(spec: DriveSpec, fmu, progress=None) -> DriveResult:
     """Drive the pipe blow by blow through one instance of the FMU ``fmu``."""
-    with FmuSession(fmu, spec.start_values) as session:
+    with FmuSession(fmu, spec.start_values, name="drive") as session:
         return drive_with(spec, session, progress)
 
 
@@ -166,8 +170,8 @@ def _blow_points(t0: float, duration: float, pace: _Pace) -> list:
     return points
 
 
-def _blow(s: Session, spec: DriveSpec, k: int, before: Reading,
-          pace: _Pace) -> tuple[Blow, Reading]:
+def _blow(s: Session, spec: DriveSpec, k: int, before: Outputs,
+          pace: _Pace) -> tuple[Blow, Outputs]:
     """Blow ``k`` and the motion after it, up to the next blow's start."""
     t0, h, t_next = k * spec.period, pace.step, (k + 1) * spec.period
     steps0 = s.steps
@@ -203,12 +207,12 @@ def _blow(s: Session, spec: DriveSpec, k: int, before: Reading,
     return blow, out
 
 
-def _friction(out: Reading) -> float:
+def _friction(out: Outputs) -> float:
     """Friction work dissipated since t = 0 [J]."""
     return out.W_friction_outer + out.W_friction_inner
 
 
-def _raise(peaks: list, out: Reading) -> None:
+def _raise(peaks: list, out: Outputs) -> None:
     peaks[0] = max(peaks[0], out.v_pipe)
     peaks[1] = max(peaks[1], out.v_plug)
 

@@ -15,18 +15,24 @@ from pathlib import Path
 
 import numpy as np
 
-from pipeplug_harness.fmu_run import DEFAULT_FMU, Pulse, Run, run_fmu
+from pipeplug_harness import io
+from pipeplug_harness.fmus import find_fmu
+from pipeplug_harness.load import Load
+from pipeplug_harness.paper import T_FIG7
+from pipeplug_harness.session import simulate
 from pipeplug_references import closed_form as cf
 
 BASE = cf.Case()
 MPA = 1e6
+FIGURES = ("3", "4", "5", "6a", "6b", "7")
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--fmu", default=str(DEFAULT_FMU), help="the FMU (default: %(default)s)")
+    parser.add_argument("--fmu", help="the FMU (default: the build of this installation, made "
+                                      "once into the user's cache)")
     parser.add_argument("--out", default="out/figures", help="output folder (%(default)s)")
-    parser.add_argument("--only", nargs="*", default=None,
-                        help="figures to draw, among 3 4 5 6a 6b 7 (default: all)")
+    parser.add_argument("--only", nargs="*", default=None, choices=FIGURES, metavar="FIGURE",
+                        help=f"figures to draw, among {' '.join(FIGURES)} (default: all)")
 
 
 def _label(case: cf.Case) -> str:
@@ -35,8 +41,7 @@ def _label(case: cf.Case) -> str:
 
 def _rigid_run(fmu, case: cf.Case, options: dict, step: float = 5e-4, stop: float = 0.3):
     params = {"tau1": case.tau1, "tau2": case.tau2, **options}
-    return run_fmu(Run(params=params, pulses=[Pulse(0.0, case.t0, case.Q0)], step=step,
-                       stop_time=stop), fmu)
+    return simulate(fmu, params, Load.from_pulses([(0.0, case.t0, case.Q0)]), step, stop)
 
 
 def _levels(fig: str) -> dict[str, float]:
@@ -96,11 +101,10 @@ RIGID = {
 }
 
 
-def draw_rigid_figure(fig: str, out: Path, fmu=DEFAULT_FMU) -> Path:
-    """Draw one of the rigid-model figures; returns the PNG path."""
-    import matplotlib.pyplot as plt
+def draw_rigid_figure(fig: str, path: Path, fmu) -> Path:
+    """Draw one of the rigid-model figures at ``path``; returns it."""
     title, make_cases, growth = RIGID[fig]
-    f, ax = plt.subplots(figsize=(8, 5))
+    f, ax = io.subplots(figsize=(8, 5))
     _draw_rigid(ax, fig, make_cases(), growth, fmu)
     ax.set(xlabel="t [ms]", ylabel="velocity [m/s]", xlim=(0, 300), title=title)
     ref = "exact solver, 10x finer step" if growth else "closed form"
@@ -110,25 +114,22 @@ def draw_rigid_figure(fig: str, out: Path, fmu=DEFAULT_FMU) -> Path:
     ax.plot([], [], "k--", lw=0.6, label="event times" + (" (mode changes)" if growth else ""))
     ax.legend(fontsize=7, loc="upper right")
     ax.grid(alpha=0.3)
-    path = out / f"fig{fig}.png"
     f.tight_layout()
-    f.savefig(path, dpi=110)
-    plt.close(f)
-    return path
+    return io.save_png(f, path)
 
 
-def draw_fig7(out: Path, fmu=DEFAULT_FMU) -> Path:
-    """Fig. 7: pipe velocity at x = L1/2, elastic model III vs rigid model I (docs/corrections.md D1)."""
-    import matplotlib.pyplot as plt
+def draw_fig7(path: Path, fmu) -> Path:
+    """Fig. 7 at ``path``: pipe velocity at x = L1/2, elastic model III vs rigid model I
+    (docs/corrections.md D1)."""
     case = replace(BASE, tau1=0.0, tau2=1e4)
-    pulses = [Pulse(0.0, case.t0, case.Q0)]
-    elastic = run_fmu(Run(params={"tau1": 0.0, "tau2": 1e4, "elastic": True, "dx": 0.01,
-                                  "courant": 1.0, "x_monitor": 0.5, "E1": 1.95e11,
-                                  "E2": 6.0e8}, pulses=pulses, step=2e-5, stop_time=0.08), fmu)
+    load = Load.from_pulses([(0.0, case.t0, case.Q0)])
+    elastic = simulate(fmu, {"tau1": 0.0, "tau2": 1e4, "elastic": True, "dx": 0.01,
+                             "courant": 1.0, "x_monitor": 0.5, "E1": 1.95e11, "E2": 6.0e8},
+                       load, 2e-5, T_FIG7)
     t = elastic["time"]
     rigid = cf.solution(case, t)
     peak_e, peak_r = elastic["v_pipe"].max(), rigid["V1"].max()
-    f, (ax, zoom) = plt.subplots(1, 2, figsize=(11, 4.5), gridspec_kw={"width_ratios": [2, 1]})
+    f, (ax, zoom) = io.subplots(1, 2, figsize=(11, 4.5), gridspec_kw={"width_ratios": [2, 1]})
     for a in (ax, zoom):
         a.plot(t * 1e3, elastic["v_pipe"], "-", lw=1.0, label="model III (elastic), x = L1/2")
         a.plot(t * 1e3, rigid["V1"], "-.", lw=1.4, color="C3", label="model I (rigid)")
@@ -138,20 +139,15 @@ def draw_fig7(out: Path, fmu=DEFAULT_FMU) -> Path:
     ax.set_title(f"Fig. 7: τ1 = 0, τ2 = 0.01 MPa; peak III {peak_e:.3f} m/s, "
                  f"peak I {peak_r:.3f} m/s ({(peak_r - peak_e) / peak_e:+.3%})", fontsize=9)
     ax.legend(fontsize=8)
-    path = out / "fig7.png"
     f.tight_layout()
-    f.savefig(path, dpi=110)
-    plt.close(f)
-    return path
+    return io.save_png(f, path)
 
 
 def main(args: argparse.Namespace) -> int:
-    import matplotlib
-    matplotlib.use("Agg")
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    wanted = args.only or [*RIGID, "7"]
-    for fig in wanted:
-        path = draw_fig7(out, args.fmu) if fig == "7" else draw_rigid_figure(fig, out, args.fmu)
-        print(f"wrote {path}", flush=True)
+    fmu = find_fmu(args.fmu)
+    with io.OutputFolder(args.out, "figures") as out:
+        for fig in args.only or FIGURES:
+            target = out.file(f"fig{fig}.png")
+            path = draw_fig7(target, fmu) if fig == "7" else draw_rigid_figure(fig, target, fmu)
+            print(f"wrote {path}", flush=True)
     return 0

@@ -14,10 +14,10 @@ import math
 import numpy as np
 
 from pipeplug import Params, build_model
+from pipeplug_harness.paper import Q0, T0
+from pipeplug_harness.paper import T_FIG7 as T_END
 
 __all__ = ["Q0", "T0", "T_END", "rigid_peak", "history", "convergence"]
-
-Q0, T0, T_END = 23000.0, 0.05, 0.08  # N, s, s
 
 
 def rigid_peak(params: Params | None = None) -> float:
@@ -33,11 +33,8 @@ def history(dx: float, h: float, **changes) -> np.ndarray:
     """
     model = build_model(dict({"dx": dx, "x_monitor": 0.5}, **changes), {"elastic": True})
     count, pulse = round(T_END / h), round(T0 / h)
-    out = np.empty(count)
-    for i in range(count):
-        model.advance(Q0 if i < pulse else 0.0, h)
-        out[i] = model.outputs().v_pipe
-    return out
+    loads = np.where(np.arange(count) < pulse, Q0, 0.0)
+    return model.sample(loads, h * np.arange(1, count + 1), ("v_pipe",))["v_pipe"]
 
 
 def convergence(dxs=(0.04, 0.02, 0.01, 0.005, 0.0025), h: float = 8e-6) -> list[dict]:

@@ -32,11 +32,14 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
+from pipeplug_harness import paper
+from pipeplug_harness.load import Load
+
 __all__ = ["Case", "Plan", "generate", "edges_of", "load_at", "loads_on", "host_calls", "calls_of",
            "case_to_json", "case_from_json", "RIGID_PARAMETERS", "GRIDS"]
 
 #: the parameters of the rigid models (the reference's names, the contract's names)
-RIGID_PARAMETERS = ("L1", "L2", "R1", "h1", "rho1", "rho2", "tau1", "tau2")
+RIGID_PARAMETERS = paper.RIGID_PARAMETERS
 #: the communication grids every case is run on
 GRIDS = ("coarse", "fine", "irregular")
 #: pipe geometry and density (the contract's defaults; the fuzz varies L1 only)
@@ -173,30 +176,17 @@ def _grids(rng, segments, stop: float, samples) -> dict:
 
 def edges_of(segments) -> list[float]:
     """Load edges [s]: 0, then each segment's end, summed in order (as the reference does)."""
-    edges, t = [0.0], 0.0
-    for duration, _ in segments:
-        t += duration
-        edges.append(t)
-    return edges
+    return list(Load.from_segments(segments).times)
 
 
 def load_at(segments, t: float) -> float:
     """The load [N] on a step starting at ``t`` [s] (right-continuous; 0 after the last)."""
-    start = 0.0
-    for duration, q in segments:
-        end = start + duration
-        if start <= t < end:
-            return q
-        start = end
-    return 0.0
+    return Load.from_segments(segments).at(float(t))
 
 
 def loads_on(segments, starts) -> np.ndarray:
     """The load [N] on steps starting at ``starts`` [s] (as :func:`load_at`, vectorised)."""
-    edges = np.array(edges_of(segments))
-    values = np.array([q for _, q in segments] + [0.0])
-    k = np.searchsorted(edges, np.asarray(starts, dtype=float), side="right") - 1
-    return values[np.clip(k, 0, len(values) - 1)]
+    return Load.from_segments(segments).on_steps(starts)
 
 
 def host_calls(case: Case, style: str) -> list[tuple[float, float]]:

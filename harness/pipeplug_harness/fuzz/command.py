@@ -12,11 +12,12 @@ constant of the fd bound.
 from __future__ import annotations
 
 import argparse
-import subprocess
-import sys
-from pathlib import Path
 
 import numpy as np
+
+from pipeplug_harness import io
+from pipeplug_harness.errors import UserError
+from pipeplug_harness.fmus import find_fmu
 
 from .cases import Plan
 from .checks import CHECKS
@@ -28,9 +29,6 @@ from .run import Setup
 
 __all__ = ["add_arguments", "main", "replay", "fit_fd_constant"]
 
-DEFAULT_FMU = Path("dist") / "PipePlug.fmu"
-
-
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--model", choices=tuple(MODELS), default="rigid",
                         help="rigid: models I and II (exact solver, reference, fd); elastic: "
@@ -39,13 +37,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=int, default=0, help="seed of the run (%(default)s)")
     parser.add_argument("--start", type=int, default=0,
                         help="index of the first case (%(default)s)")
-    parser.add_argument("--jobs", type=int, default=1, help="processes (%(default)s)")
     parser.add_argument("--scheduler", default=None,
-                        help="run on the Dask cluster of this scheduler (e.g. "
-                             "tcp://10.0.0.5:8786; needs the 'dask' extra)")
+                        help="address of a running Dask scheduler (e.g. tcp://10.0.0.5:8786); "
+                             "default: a LocalCluster on this machine")
     parser.add_argument("--workers", type=int, default=None,
-                        help="run on a Dask LocalCluster of this many worker processes "
-                             "(needs the 'dask' extra)")
+                        help="LocalCluster worker processes (default: one per core)")
     parser.add_argument("--reference-every", type=int, default=10,
                         help="compare every N-th case with the reference (%(default)s; 0: none)")
     parser.add_argument("--fmu-every", type=int, default=20,
@@ -56,8 +52,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help=f"core paths, comma-separated, among {', '.join(CORE_PATHS)} "
                              "(default: all; with --replay: those of the file)")
     parser.add_argument("--fmu", default=None,
-                        help=f"the FMU (file or extracted folder; default {DEFAULT_FMU}, built "
-                             "there if missing)")
+                        help="the FMU (file or extracted folder; default: the build of this "
+                             "installation, made once into the user's cache)")
     parser.add_argument("--no-fmu", action="store_true", help="run no case through the FMU")
     parser.add_argument("--out", default="out/fuzz", help="output folder (%(default)s)")
     parser.add_argument("--replay", default=None, metavar="FILE",
@@ -70,41 +66,40 @@ def main(args: argparse.Namespace) -> int:
     paths = tuple(p for p in (args.paths or ",".join(CORE_PATHS)).split(",") if p)
     unknown = [p for p in paths if p not in CORE_PATHS]
     if unknown or not paths:
-        print(f"pipeplug fuzz: unknown core path(s) {unknown}; allowed: {', '.join(CORE_PATHS)}",
-              file=sys.stderr)
-        return 2
+        raise UserError(key="--paths", value=args.paths, allowed=", ".join(CORE_PATHS))
+    for flag in ("cases", "reference_every", "fmu_every", "fd_every", "start", "workers", "seed"):
+        value = getattr(args, flag)
+        if value is not None and value < (1 if flag in ("cases", "workers") else 0):
+            raise UserError(key=f"--{flag.replace('_', '-')}", value=value,
+                            allowed=">= 1" if flag in ("cases", "workers") else ">= 0")
+    args.limits.check("cases", args.cases, f"--cases {args.cases}")
     if args.replay:
         return replay(args.replay, Setup(paths), paths_given=args.paths is not None,
                       fmu=lambda: _fmu(args))
-    if args.fit_fd_constant:
-        return fit_fd_constant(args.seed, args.start, args.cases, Setup(paths), args.jobs,
-                               Path(args.out) / "failures")
-    plan = Plan(args.reference_every, 0 if args.no_fmu else args.fmu_every, args.fd_every,
-                args.model)
-    setup = Setup(paths, fmu=_fmu(args) if plan.fmu else None)
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    indices = range(args.start, args.start + args.cases)
-    if args.scheduler or args.workers:
-        summary, seconds, jobs = _on_dask(args, indices, plan, setup, out / "failures")
-    else:
-        jobs = args.jobs
-        summary, seconds = fuzz(args.seed, indices, plan, setup, jobs, failures=out / "failures")
-    shown = paths if args.model == "rigid" else tuple(ELASTIC_PATHS)
-    title = (f"pipeplug fuzz --model {args.model} --seed {args.seed} --start {args.start} "
-             f"--cases {args.cases} (paths: {', '.join(shown)})")
-    table = f"{title}\n{summary.table(seconds, jobs)}"
-    print(table)
-    (out / "summary.txt").write_text(table + "\n")
-    if summary.failures:
-        print(f"\n{summary.failures} failing case(s) saved in {out / 'failures'}")
+    with io.OutputFolder(args.out, "fuzz") as out:
+        if args.fit_fd_constant:
+            return fit_fd_constant(args, Setup(paths), out)
+        plan = Plan(args.reference_every, 0 if args.no_fmu else args.fmu_every, args.fd_every,
+                    args.model)
+        setup = Setup(paths, fmu=_fmu(args) if plan.fmu else None)
+        indices = range(args.start, args.start + args.cases)
+        summary, seconds, workers = _on_dask(args, indices, plan, setup, out)
+        shown = paths if args.model == "rigid" else tuple(ELASTIC_PATHS)
+        title = (f"pipeplug fuzz --model {args.model} --seed {args.seed} --start {args.start} "
+                 f"--cases {args.cases} (paths: {', '.join(shown)})")
+        table = f"{title}\n{summary.table(seconds, workers)}"
+        print(table)
+        out.file("summary.txt").write_text(table + "\n")
+        if summary.failures:
+            print(f"\n{summary.failures} failing case(s) saved in {out.path / 'failures'}")
     return 1 if summary.failures else 0
 
 
 def _on_dask(args, indices, plan, setup, failures):
-    """The run on a Dask cluster (the sweep engine): summary, seconds, workers. The FMU's path
-    is made absolute: every worker must be able to read it there."""
+    """The run on a Dask cluster (the one parallel back end): summary, seconds, workers. The
+    FMU's path is made absolute: every worker must be able to read it there."""
     from dataclasses import replace
+    from pathlib import Path
 
     from pipeplug_harness.sweep.cluster import dask_client
     if setup.fmu:
@@ -117,16 +112,10 @@ def _on_dask(args, indices, plan, setup, failures):
 
 
 def _fmu(args) -> str | None:
-    """The FMU to use: --fmu, or dist/PipePlug.fmu (built there if missing)."""
+    """The FMU to use: --fmu, or the build of this installation."""
     if args.no_fmu:
         return None
-    if args.fmu:
-        return args.fmu
-    if not DEFAULT_FMU.exists():
-        print(f"building {DEFAULT_FMU}", file=sys.stderr)
-        subprocess.run([sys.executable, "-m", "pipeplug_fmu", "build", "--dest",
-                        str(DEFAULT_FMU)], check=True)
-    return str(DEFAULT_FMU)
+    return str(find_fmu(args.fmu))
 
 
 def replay(file: str, setup: Setup | None = None, paths_given: bool = False, fmu=None) -> int:
@@ -138,9 +127,8 @@ def replay(file: str, setup: Setup | None = None, paths_given: bool = False, fmu
     paths = setup.paths if paths_given or not data.get("paths") else tuple(data["paths"])
     unknown = [p for p in paths if p not in CORE_PATHS]
     if unknown:
-        print(f"pipeplug fuzz: the file names core path(s) {unknown} not in this build; "
-              f"allowed: {', '.join(CORE_PATHS)} (choose with --paths)", file=sys.stderr)
-        return 2
+        raise UserError(f"names core path(s) {unknown} not in this build; allowed: "
+                        f"{', '.join(CORE_PATHS)} (choose with --paths)", file=file)
     needs_fmu = "fmu" in case.checks and fmu is not None
     setup = Setup(paths, setup.fd_path, fmu() if needs_fmu else setup.fmu)
     result = run_one(case, setup)
@@ -158,14 +146,14 @@ def replay(file: str, setup: Setup | None = None, paths_given: bool = False, fmu
     return 1 if failed else 0
 
 
-def fit_fd_constant(seed: int, start: int, cases: int, setup: Setup, jobs: int,
-                    failures: Path | None = None) -> int:
+def fit_fd_constant(args, setup: Setup, out) -> int:
     """Run the fd check (and the reference) on every case and print the fit of the fd
     bound's constant: ``C = 1.5 max K`` over the resolved cases (K = E / dt at the three
     levels, see :mod:`.fdcheck`; the order fit E ~ K dt^p gives p ~ 1, so K is the constant
-    of the fit). Failing cases are saved in ``failures`` and listed."""
+    of the fit). Failing cases are saved in the output folder and listed."""
+    seed, start, cases = args.seed, args.start, args.cases
     plan = Plan(reference=1, fmu=0, fd=1)
-    summary, seconds = fuzz(seed, range(start, start + cases), plan, setup, jobs, failures)
+    summary, seconds, _ = _on_dask(args, range(start, start + cases), plan, setup, out)
     fd = np.array([r for r in summary.fd_results], dtype=float)
     resolved = fd[fd[:, 0] == 1]
     K = resolved[:, 2]

@@ -35,6 +35,8 @@ from dataclasses import asdict, dataclass, field
 
 import numpy as np
 
+from pipeplug_harness.load import Load
+
 from .cases import Plan
 
 __all__ = ["ElasticCase", "generate_elastic", "internal_step", "plug_simulated", "GRIDS"]
@@ -79,9 +81,7 @@ class ElasticCase:
 
     def load_at(self, t) -> np.ndarray:
         """The force [N] on steps starting at ``t`` [s] (right-continuous)."""
-        k = np.searchsorted(np.asarray(self.edges), np.asarray(t, dtype=float), side="right") - 1
-        values = np.append(np.asarray(self.loads, dtype=float), 0.0)
-        return np.where(k >= 0, values[np.clip(k, 0, len(self.loads))], 0.0)
+        return Load(self.edges, (*self.loads, 0.0)).on_steps(t)
 
 
 def internal_step(params: dict) -> float:

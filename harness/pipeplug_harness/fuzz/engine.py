@@ -1,18 +1,16 @@
 """Running many cases: generate from ``(seed, index)``, run, aggregate, save failures.
 
 The map step is :func:`run_indices` (cases generated where they run, so only indices and
-results travel); it runs in this process, in a pool of ``jobs`` processes, or on a Dask cluster
-(``client``: the sweep engine, :func:`pipeplug_harness.sweep.engine.map_chunks`, with
-:class:`FuzzCampaign`); aggregation (:class:`~.report.Summary`) does not care about the order
-results arrive in.
+results travel); it runs in this process or on a Dask cluster (``client``: the one parallel
+back end of the harness, the sweep engine's :func:`pipeplug_harness.sweep.engine.map_chunks`,
+with :class:`FuzzCampaign`); aggregation (:class:`~.report.Summary`) does not care about the
+order results arrive in.
 """
 from __future__ import annotations
 
-import multiprocessing
 import sys
 import time
 from dataclasses import dataclass
-from pathlib import Path
 
 from .cases import Plan, generate
 from .elastic_cases import generate_elastic
@@ -36,7 +34,6 @@ def run_one(case, setup: Setup) -> CaseResult:
     runner = run_elastic_case if getattr(case, "kind", "rigid") == "elastic" else run_case
     return runner(case, setup)
 
-_CHUNK = 20          # cases per task of a pool
 #: cases per task on a cluster: a task costs the engine ~10 ms (scheduler round trip), a case
 #: a few ms, so a chunk of 100 keeps that under a few per cent
 DASK_CHUNK = 100
@@ -45,10 +42,6 @@ DASK_CHUNK = 100
 def run_indices(seed: int, indices, plan: Plan, setup: Setup) -> list[CaseResult]:
     """Generate and run cases ``indices`` of the fuzz run ``seed``."""
     return [run_one(make_case(seed, i, plan), setup) for i in indices]
-
-
-def _task(args) -> list[CaseResult]:
-    return run_indices(*args)
 
 
 @dataclass(frozen=True)
@@ -78,28 +71,22 @@ class FuzzCampaign:
         return run_indices(self.seed, self._part(c), self.plan, self.setup)
 
 
-def fuzz(seed: int, indices, plan: Plan, setup: Setup, jobs: int = 1,
-         failures: Path | None = None, progress=sys.stderr,
+def fuzz(seed: int, indices, plan: Plan, setup: Setup, failures=None, progress=sys.stderr,
          client=None) -> tuple[Summary, float]:
     """Run the cases ``indices``; return the summary and the wall time [s].
 
-    Failing cases are written into ``failures`` (if given) as replayable files. With a
-    ``distributed.Client``, the cases run on its cluster (``jobs`` is not used).
+    Failing cases are written into ``failures`` (if given: a folder or an output folder) as
+    replayable files. With a ``distributed.Client`` the cases run on its cluster, else in this
+    process.
     """
     if client is not None:
         return _fuzz_on_dask(seed, indices, plan, setup, client, failures, progress)
     indices = list(indices)
-    chunks = [indices[i:i + _CHUNK] for i in range(0, len(indices), _CHUNK)]
-    tasks = [(seed, chunk, plan, setup) for chunk in chunks]
+    chunks = [indices[i:i + DASK_CHUNK] for i in range(0, len(indices), DASK_CHUNK)]
     summary, start = Summary(), time.perf_counter()
     every = max(1, len(chunks) // 20)
-    if jobs > 1:
-        with multiprocessing.get_context("spawn").Pool(jobs) as pool:
-            _collect(pool.imap_unordered(_task, tasks), summary, seed, plan, setup, failures,
-                     progress, every, start, len(indices))
-    else:
-        _collect(map(_task, tasks), summary, seed, plan, setup, failures, progress, every,
-                 start, len(indices))
+    _collect((run_indices(seed, chunk, plan, setup) for chunk in chunks), summary, seed, plan,
+             setup, failures, progress, every, start, len(indices))
     return summary, time.perf_counter() - start
 
 

@@ -10,6 +10,8 @@ import math
 from collections import Counter
 from pathlib import Path
 
+from pipeplug_harness.errors import UserError
+
 from .cases import Case, case_from_json, case_to_json
 from .checks import CHECKS
 from .elastic_cases import elastic_from_json, elastic_to_json
@@ -62,7 +64,7 @@ class Summary:
                   if c == check and (subject is None or s == subject)]
         return max(counts, default=0)
 
-    def table(self, seconds: float | None = None, jobs: int = 1) -> str:
+    def table(self, seconds: float | None = None, workers: int = 1) -> str:
         """The summary as text: totals, then one line per check and subject."""
         fam = self.families
         models = ", ".join(f"model {m} {n}" for m, n in sorted(self.models.items()))
@@ -75,7 +77,7 @@ class Summary:
         ]
         if seconds is not None:
             lines.append(f"time: {seconds:.1f} s wall, {self.case_seconds:.1f} s in cases, "
-                         f"{jobs} job(s)")
+                         f"{workers} worker(s)")
         width = max((len(c) + len(s) for c, s in self.rows), default=10) + 3
         lines += ["", f"{'check [subject]':<{width}} {'cases':>7} {'failed':>6} "
                       f"{'worst':>9} {'tolerance':>9}  worst case (seed:index)",
@@ -99,10 +101,17 @@ def _num(x: float) -> str:
     return f"{x:.2e}" if abs(x) < 1e-2 or abs(x) >= 1e3 else f"{x:.3f}"
 
 
-def save_failure(result: CaseResult, case: Case, folder: Path, paths: tuple) -> Path:
-    """Write a failing case as a replayable JSON file; return its path."""
-    folder.mkdir(parents=True, exist_ok=True)
-    path = folder / f"case-{case.seed}-{case.index}.json"
+def save_failure(result: CaseResult, case: Case, folder, paths: tuple) -> Path:
+    """Write a failing case as a replayable JSON file; return its path. ``folder`` is a
+    folder, or an output folder (:class:`pipeplug_harness.io.OutputFolder`) whose manifest then
+    names the file."""
+    name = f"case-{case.seed}-{case.index}.json"
+    if hasattr(folder, "file"):
+        (folder.path / "failures").mkdir(exist_ok=True)
+        path = folder.file(f"failures/{name}")
+    else:
+        folder.mkdir(parents=True, exist_ok=True)
+        path = folder / name
     data = {
         "seed": case.seed, "index": case.index, "paths": list(paths),
         "failed": [{"check": c, "subject": s, "value": result.values[(c, s)],
@@ -123,10 +132,17 @@ def _plain(value):
 def load_failure(path: str | Path) -> tuple[Case, dict]:
     """The case of a file written by :func:`save_failure` (or a bare case file), and the
     file's data."""
-    data = json.loads(Path(path).read_text())
-    case = data.get("case", data)
-    return (elastic_from_json(case) if case.get("kind") == "elastic"
-            else case_from_json(case)), data
+    path = Path(path)
+    if not path.is_file() or path.stat().st_size > 2 ** 26:
+        raise UserError("not a fuzz case file (a regular file of at most 64 MB)", file=path)
+    try:
+        data = json.loads(path.read_text())
+        case = data.get("case", data)
+        return (elastic_from_json(case) if case.get("kind") == "elastic"
+                else case_from_json(case)), data
+    except (OSError, ValueError, TypeError, KeyError, AttributeError, RecursionError) as exc:
+        raise UserError(f"not a fuzz case file: {type(exc).__name__}: {exc}", file=path) \
+            from None
 
 
 def _elastic(case) -> bool:

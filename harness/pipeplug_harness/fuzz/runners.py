@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import atexit
 import copy
-import tempfile
 from pathlib import Path
 
 import numpy as np
@@ -90,29 +89,12 @@ def run_reference(case: Case, times, params=None) -> dict:
 
 
 class FmuHost:
-    """One FMU instance (FMPy's FMU2Slave), reset and reused for every case of a process."""
+    """One FMU instance (:class:`pipeplug_harness.session.FmuSession`), restarted for every case
+    of a process."""
 
     def __init__(self, fmu: str | Path):
-        from fmpy import extract, read_model_description
-        from fmpy.fmi2 import FMU2Slave
-
-        fmu = Path(fmu)
-        folder = str(fmu) if fmu.is_dir() else extract(
-            str(fmu), unzipdir=tempfile.mkdtemp(prefix="pipeplug-fuzz-fmu-"))
-        md = read_model_description(folder)
-        self.vr = {v.name: v.valueReference for v in md.modelVariables}
-        self.kind = {v.name: v.type for v in md.modelVariables}
-        self.slave = FMU2Slave(guid=md.guid, unzipDirectory=folder,
-                               modelIdentifier=md.coSimulation.modelIdentifier,
-                               instanceName="fuzz")
-        self.slave.instantiate(loggingOn=False)
-        self.fresh = True
-        self.reals = [self.vr[n] for n in OUTPUT_NAMES if self.kind[n] == "Real"]
-        self.real_cols = [COLUMN[n] for n in OUTPUT_NAMES if self.kind[n] == "Real"]
-        self.ints = [self.vr[n] for n in OUTPUT_NAMES if self.kind[n] == "Integer"]
-        self.int_cols = [COLUMN[n] for n in OUTPUT_NAMES if self.kind[n] == "Integer"]
-        self.bools = [self.vr[n] for n in OUTPUT_NAMES if self.kind[n] == "Boolean"]
-        self.bool_cols = [COLUMN[n] for n in OUTPUT_NAMES if self.kind[n] == "Boolean"]
+        from pipeplug_harness.session import FmuSession
+        self.session = FmuSession(fmu, name="fuzz")
 
     def run(self, case: Case, calls) -> np.ndarray:
         """Reset, set the case's parameters, make the host's calls; the outputs after each."""
@@ -122,33 +104,14 @@ class FmuHost:
     def run_with(self, params: dict, options: dict, loads, calls) -> np.ndarray:
         """Reset, set ``params`` and ``options`` (by contract name), make the host's ``calls``
         with ``loads[i]`` held over call ``i``; the outputs after each."""
-        s = self.slave
-        if not self.fresh:
-            s.reset()
-        self.fresh = False
-        s.setupExperiment(startTime=0.0)
-        s.enterInitializationMode()
-        for name, value in params.items():
-            s.setReal([self.vr[name]], [value])
-        for name, value in options.items():
-            if self.kind[name] == "Boolean":
-                s.setBoolean([self.vr[name]], [bool(value)])
-            else:
-                s.setString([self.vr[name]], [str(value)])
-        s.exitInitializationMode()
+        self.session.restart({**params, **options})
         rows = np.empty((len(calls), len(OUTPUT_NAMES)))
-        q_vr = [self.vr["Q"]]
         for i, (t, h) in enumerate(calls):
-            s.setReal(q_vr, [float(loads[i])])
-            s.doStep(t, h)
-            rows[i, self.real_cols] = s.getReal(self.reals)
-            rows[i, self.int_cols] = s.getInteger(self.ints)
-            rows[i, self.bool_cols] = s.getBoolean(self.bools)
+            rows[i] = self.session.step(t, h, float(loads[i]))
         return rows
 
     def close(self) -> None:
-        self.slave.terminate()
-        self.slave.freeInstance()
+        self.session.close()
 
 
 _HOSTS: dict[str, FmuHost] = {}

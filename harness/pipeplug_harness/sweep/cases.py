@@ -24,8 +24,9 @@ import numpy as np
 import pyarrow as pa
 
 from pipeplug.interface import OUTPUTS
-from pipeplug.options import OPTIONS
-from pipeplug_harness.scenes.file import SceneError, elastic_choice
+from pipeplug_harness.errors import UserError
+from pipeplug_harness.session import split_start_values
+from pipeplug_harness.spec import blow_train, elastic_choice
 
 from .sample import varied_values
 
@@ -70,7 +71,7 @@ def prepare(kind: str, values: dict):
 
     Raises
     ------
-    SceneError or pipeplug.ParameterError
+    UserError or pipeplug.ParameterError
         Naming the offending value and what is allowed.
     """
     if kind == "drive":
@@ -82,21 +83,18 @@ def prepare(kind: str, values: dict):
 def _prepare_blow(values: dict) -> BlowCase:
     from pipeplug import build_model
     blows, output = values.pop("blows"), values.pop("output")
+    values.pop("checks", None)
     elastic, _ = elastic_choice(values.pop("elastic"), values, blows["duration"])
-    options = {k: v for k, v in values.items() if k in OPTIONS and v is not None}
+    params, options = split_start_values({k: v for k, v in values.items() if v is not None})
     options["elastic"] = elastic
-    params = {k: v for k, v in values.items() if k not in OPTIONS and v is not None}
-    count, period, start = blows["count"], blows["period"], blows["start"]
-    for key, ok, allowed in (("count", count >= 1, ">= 1"), ("start", start >= 0.0, ">= 0"),
-                             ("duration", blows["duration"] > 0.0, "> 0"),
-                             ("period", count == 1 or period > blows["duration"],
-                              "> duration")):
-        if not ok:
-            raise SceneError(f"[blows] {key} = {blows[key]!r}; allowed: {allowed}")
-    pulses = [(start + k * period, blows["duration"], blows["amplitude"]) for k in range(count)]
+    train = blow_train(blows)
+    if train.count < 1:
+        raise UserError(f"[blows] count = {train.count}; allowed: >= 1 (a sweep's case ends)")
+    pulses = [(train.start + k * train.period, train.duration, train.amplitude)
+              for k in range(train.count)]
     end = pulses[-1][0] + pulses[-1][1]
     if not output["stop_time"] >= end:
-        raise SceneError(f"[output] stop_time = {output['stop_time']!r}; allowed: >= the end "
+        raise UserError(f"[output] stop_time = {output['stop_time']!r}; allowed: >= the end "
                          f"of the blows ({end!r} s)")
     return BlowCase(build_model(params, options), pulses, output["stop_time"], elastic)
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import itertools
 
-from pipeplug_harness.scenes.file import SceneError
+from pipeplug_harness.errors import UserError
 
 from .cases import chunk_values, prepare, value_bounds
 
@@ -27,7 +27,7 @@ def check_sweep(spec) -> str:
 
     Raises
     ------
-    SceneError
+    UserError
         Naming the case's varied values, the offending value and what is allowed.
     """
     bounds = value_bounds(spec)
@@ -35,6 +35,7 @@ def check_sweep(spec) -> str:
     for corner in itertools.product(*(sorted(set(b)) for b in bounds.values())):
         case = dict(zip(bounds, corner))
         elastic |= _is_elastic(_checked(spec, case))
+    _plausible(spec, bounds)              # after the core's hard ranges, which say more
     if not (elastic or spec.n_cases <= CHECK_ALL_BELOW):
         return f"checked by the core: the {2 ** len(bounds)} corners of the values' box"
     for c in range(spec.n_chunks):
@@ -44,12 +45,26 @@ def check_sweep(spec) -> str:
     return f"checked by the core: all {spec.n_cases} cases"
 
 
+def _plausible(spec, bounds: dict) -> None:
+    """The varied values within their keys' plausible ranges (or allowed by name)."""
+    from pipeplug_harness.spec import plausibility
+    from pipeplug_harness.spec.check import allowed_names
+
+    from .file import KINDS, variables
+    sections = KINDS[spec.kind][0].sections
+    allowed = allowed_names(spec.base, sections)
+    for name, section in variables(spec.kind).items():
+        if name in bounds:
+            for value in bounds[name]:
+                plausibility(f"[{section}] {name}", name, value, sections[section][name], allowed)
+
+
 def _checked(spec, case: dict):
     try:
         return prepare(spec.kind, spec.case_values({k: [v] for k, v in case.items()}, 0))
-    except ValueError as exc:               # SceneError or the core's ParameterError
+    except ValueError as exc:               # UserError or the core's ParameterError
         where = ", ".join(f"{k} = {v!r}" for k, v in case.items())
-        raise SceneError(f"the case with {where}: {exc}") from None
+        raise UserError(f"the case with {where}: {exc}") from None
 
 
 def _is_elastic(prepared) -> bool:

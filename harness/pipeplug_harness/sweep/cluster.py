@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import logging
 import os
+import tempfile
 from contextlib import contextmanager
 
 __all__ = ["dask_client", "QUIET"]
@@ -50,10 +51,15 @@ def dask_client(scheduler: str | None = None, workers: int | None = None):
                 yield client
             return
         n = workers or os.cpu_count() or 1
-        # No dashboard; the scheduler's HTTP routes (health, metrics) still listen, on a free
-        # port of the loopback rather than on 8787, which a user's own cluster may hold.
-        with LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                          dashboard_address=None, silence_logs=logging.ERROR,
-                          scheduler_kwargs={"dashboard_address": "127.0.0.1:0"}) as cluster, \
-                Client(cluster) as client:
-            yield client
+        # The workers' scratch space (and Dask's lock files beside it) in a folder of this run,
+        # removed with the cluster: nothing is left in the temporary directory.
+        with tempfile.TemporaryDirectory(prefix="pipeplug-dask-") as scratch, \
+                dask.config.set({"temporary-directory": scratch}):
+            # No dashboard; the scheduler's HTTP routes (health, metrics) still listen, on a
+            # free port of the loopback rather than on 8787, which a user's own cluster may hold.
+            with LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                              dashboard_address=None, silence_logs=logging.ERROR,
+                              local_directory=scratch,
+                              scheduler_kwargs={"dashboard_address": "127.0.0.1:0"}) as cluster, \
+                    Client(cluster) as client:
+                yield client

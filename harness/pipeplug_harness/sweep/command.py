@@ -6,6 +6,8 @@ import importlib
 import sys
 from pathlib import Path
 
+from pipeplug_harness.errors import RunFailed, UserError
+
 from .file import load_sweep
 
 #: report -> module with ``report(spec, table, figure) -> str`` (see .file.REPORTS)
@@ -33,43 +35,38 @@ def main(args: argparse.Namespace) -> int:
     from .cluster import dask_client
     from .engine import run_campaign
     from .runners import described
-    from .store import StoreError, read_folder
+    from .store import read_folder
+    spec = load_sweep(args.sweep, args.limits)
     try:
-        spec = load_sweep(args.sweep)
         checked = check_sweep(spec)
-    except ValueError as exc:                  # SceneError, or the core's ParameterError
-        print(f"pipeplug sweep: {args.sweep}: {exc}", file=sys.stderr)
-        return 2
+    except UserError as exc:
+        raise exc.in_file(args.sweep) from None
     out = Path(args.out or Path("out/sweeps") / spec.name)
+    figure = Path(args.figure or Path("out/sweeps") / f"{spec.name}.png")
+    if spec.report != "none" and (figure.is_dir() or (figure.exists() and not figure.is_file())):
+        raise UserError(key="--figure", value=str(figure), allowed="a PNG file's path")
     print(f"{spec.name}: {spec.n_cases} {spec.kind} cases ({spec.sampling} over "
           f"{', '.join(d.name for d in spec.dims)}) in {spec.n_chunks} chunks of "
           f"{spec.chunk}; {checked}; {described(spec)}", flush=True)
-    try:
-        with dask_client(args.scheduler, args.workers) as client:
-            workers = len(client.scheduler_info()["workers"])
-            run = run_campaign(spec, out, client, fresh=args.fresh,
-                               progress=not args.no_progress,
-                               about={"file": str(Path(args.sweep).resolve())})
-    except StoreError as exc:
-        print(f"pipeplug sweep: {exc} (--fresh, or --out)", file=sys.stderr)
-        return 2
+    with dask_client(args.scheduler, args.workers) as client:
+        workers = len(client.scheduler_info()["workers"])
+        run = run_campaign(spec, out, client, fresh=args.fresh, progress=not args.no_progress,
+                           about={"file": str(Path(args.sweep).resolve())})
     print(_summary(run, workers, out), flush=True)
     if run.failed:
         for c, text in sorted(run.failed.items()):
             print(f"  chunk {c} failed: {text}", file=sys.stderr)
-        print("pipeplug sweep: rerun to retry the failed chunks", file=sys.stderr)
-        return 1
+        raise RunFailed(f"{len(run.failed)} chunk(s) failed: rerun to retry them")
     table = read_folder(out)
     errors = [r for r in table.select(["case", "error"]).to_pylist() if r["error"]]
     for row in errors[:10]:
         print(f"  case {row['case']}: {row['error']}", file=sys.stderr)
-    if errors:
-        print(f"  {len(errors)} case(s) failed (the 'error' column)", file=sys.stderr)
     if spec.report != "none":
-        figure = Path(args.figure or Path("out/sweeps") / f"{spec.name}.png")
         module = importlib.import_module(_REPORT_MODULES[spec.report])
         print(module.report(spec, table, figure), flush=True)
-    return 1 if errors else 0
+    if errors:
+        raise RunFailed(f"{len(errors)} case(s) failed (the 'error' column)")
+    return 0
 
 
 def _summary(run, workers: int, out: Path) -> str:

@@ -18,6 +18,8 @@ from pathlib import Path
 import numpy as np
 
 from pipeplug.params import Params
+from pipeplug_harness import io
+from pipeplug_harness.paper import RIGID_PARAMETERS
 from pipeplug_references import closed_form as cf
 
 __all__ = ["SEQUENCES", "classify", "report", "plot_domains"]
@@ -36,7 +38,7 @@ _NAMES = ("I", "II", "III", "IV", "V")
 def _case(spec, tau1: float, tau2: float) -> cf.Case:
     """The closed form's case of a point: the sweep's base pipe, plug and blow."""
     base, blows = spec.base, spec.base["blows"]
-    fields = ("L1", "L2", "R1", "h1", "rho1", "rho2")
+    fields = [k for k in RIGID_PARAMETERS if not k.startswith("tau")]
     given = {k: base[k] if base.get(k) is not None else getattr(Params(), k) for k in fields}
     return cf.Case(**given, tau1=tau1, tau2=tau2, Q0=blows["amplitude"], t0=blows["duration"])
 
@@ -117,9 +119,6 @@ def _edges(centres: np.ndarray) -> np.ndarray:
 def plot_domains(path: Path, spec, rows: list, case: cf.Case) -> Path:
     """The map: each point's cell coloured by its mode sequence's domain, the analytic
     boundaries over it, disagreements marked."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
     from matplotlib.colors import ListedColormap
     from matplotlib.patches import Patch
 
@@ -131,7 +130,7 @@ def plot_domains(path: Path, spec, rows: list, case: cf.Case) -> Path:
         grid[np.searchsorted(t2s, r["tau2"]), np.searchsorted(t1s, r["tau1"])] = \
             labels.index(r["seen"])
     mpa = 1e-6
-    fig, ax = plt.subplots(figsize=(7.0, 5.6), dpi=120)
+    fig, ax = io.subplots(figsize=(7.0, 5.6), dpi=120)
     ax.pcolormesh(_edges(t1s) * mpa, _edges(t2s) * mpa, grid,
                   cmap=ListedColormap([_COLOURS[k] for k in labels]), vmin=-0.5,
                   vmax=len(labels) - 0.5, shading="flat")
@@ -168,6 +167,4 @@ def plot_domains(path: Path, spec, rows: list, case: cf.Case) -> Path:
     ax.legend(handles=handles, loc="upper right", fontsize=8, framealpha=0.9, ncol=2)
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path)
-    plt.close(fig)
-    return path
+    return io.save_png(fig, path, dpi=fig.dpi)

@@ -17,6 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
+from pipeplug_harness import io
+
 __all__ = ["summarise", "report", "plot_blows"]
 
 _QUANTILES = (0.05, 0.25, 0.5, 0.75, 0.95)
@@ -44,7 +46,10 @@ def summarise(table, names=()) -> dict:
     if m:
         out["mean_blows"] = float(driven.mean())
         out["se_mean_blows"] = float(driven.std(ddof=1) / math.sqrt(m)) if m > 1 else math.nan
-        out["quantiles"] = {q: float(np.quantile(driven, q)) for q in _QUANTILES}
+        # a quantile of whole blows is a number of blows: the sample's own value (the
+        # inverse of its distribution function), never one between two drives
+        out["quantiles"] = {q: float(np.quantile(driven, q, method="inverted_cdf"))
+                            for q in _QUANTILES}
         out["quantile_ranges"] = {q: _quantile_range(np.sort(driven), q) for q in _QUANTILES}
     return out
 
@@ -101,17 +106,16 @@ def _described(d) -> str:
 def plot_blows(path: Path, spec, s: dict) -> Path:
     """Histogram of blows to drive; beside it each drive over the first two varied names,
     coloured by its blows, refusals marked."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
 
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(11.0, 4.4), dpi=120,
+    fig, (ax, bx) = io.subplots(1, 2, figsize=(11.0, 4.4), dpi=120,
                                  gridspec_kw={"width_ratios": (1.1, 1.0)})
     _scatter(fig, bx, s)
     driven = s["blows_driven"]
     if len(driven):
         top = int(driven.max())
-        bins = np.arange(0.5, top + 1.5, max(1, math.ceil(top / 60)))
+        width = max(1, math.ceil(top / 60))
+        # edges from 0.5 past the largest count: every drive falls in a bin, the longest too
+        bins = 0.5 + width * np.arange(math.ceil(top / width) + 1)
         ax.hist(driven, bins=bins, color="#4c72b0", label=f"target reached ({s['driven']})")
         ax.axvline(s["mean_blows"], color="k", lw=1.2, ls="--",
                    label=f"mean {s['mean_blows']:.2f} +- {s['se_mean_blows']:.2f}")
@@ -123,9 +127,7 @@ def plot_blows(path: Path, spec, s: dict) -> Path:
     ax.legend(fontsize=8)
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path)
-    plt.close(fig)
-    return path
+    return io.save_png(fig, path, dpi=fig.dpi)
 
 
 def _scatter(fig, ax, s: dict) -> None:

@@ -30,7 +30,9 @@ import uuid
 from dataclasses import dataclass, field
 from functools import partial
 
-from .store import ChunkFiles, ChunkStore, Written, parquet_bytes
+from pipeplug_harness.io import parquet_bytes
+
+from .store import ChunkFiles, ChunkStore, Written
 
 __all__ = ["map_chunks", "run_campaign", "ChunkRun", "CampaignRun"]
 
@@ -170,9 +172,13 @@ def run_campaign(campaign, out, client, *, fresh: bool = False, progress: bool =
     # Decided by what the task returned, not by looking for the file: a file that a stale or
     # concurrent writer left is overwritten with the bytes, and a file system that shows new
     # files late (NFS) does not matter.
-    run = map_chunks(campaign, todo, client, collect, progress=progress, on_chunk=on_chunk,
-                     skipped=campaign.n_chunks - len(todo),
-                     task=partial(_run_stored, files=store.files if workers_write else None),
-                     fetch=lambda c, kind: kind is not Written)
+    try:
+        run = map_chunks(campaign, todo, client, collect, progress=progress,
+                         on_chunk=on_chunk, skipped=campaign.n_chunks - len(todo),
+                         task=partial(_run_stored,
+                                      files=store.files if workers_write else None),
+                         fetch=lambda c, kind: kind is not Written)
+    finally:
+        store.close()
     run.by_workers = len(by_workers)
     return run

@@ -52,20 +52,19 @@ from pathlib import Path
 
 import numpy as np
 
-from pipeplug_harness.drive.file import DRIVE_SECTIONS
-from pipeplug_harness.scenes.file import SECTIONS, SceneError, checked_sections, read_toml
+from pipeplug_harness import spec as files
+from pipeplug_harness.errors import UserError
+from pipeplug_harness.limits import Limits
 
 from .runners import BATCH_CHUNK, RUNNERS, runner_of
 from .sample import DISTRIBUTIONS, GRID_KEYS, GRID_SCALES, Dimension
 
 __all__ = ["SweepSpec", "KINDS", "REPORTS", "load_sweep", "sweep_spec", "variables"]
 
-#: kind -> (base sections, the nested ones, default cases per task)
+#: kind -> (its file kind, the nested sections, default cases per task)
 KINDS = {
-    "blow": ({**{k: v for k, v in SECTIONS.items() if k != "output"},
-              "output": {"stop_time": (float, 100.0), "modes": (bool, False)}},
-             ("blows", "output"), 2000),
-    "drive": (DRIVE_SECTIONS, ("blows", "drive"), 100),
+    "blow": (files.SWEEP_BLOW, files.SWEEP_BLOW.nested, 2000),
+    "drive": (files.SWEEP_DRIVE, files.SWEEP_DRIVE.nested, 100),
 }
 
 #: report -> (what it gives, the result columns it needs beyond the default ones); the modules
@@ -78,8 +77,6 @@ REPORTS = {
                     ()),
 }
 
-_SWEEP = {"kind": (str, "blow"), "seed": (int, 0), "samples": (int, None),
-          "chunk": (int, None), "report": (str, "none")}
 _SAMPLINGS = ("grid", "random")
 
 
@@ -137,108 +134,117 @@ class SweepSpec:
 
 def variables(kind: str) -> dict:
     """name -> section of every number key a sweep of ``kind`` may vary."""
-    sections = KINDS[kind][0]
+    sections = KINDS[kind][0].sections
     return {key: section for section, keys in sections.items()
-            for key, (typ, _) in keys.items() if typ is float}
+            if section not in ("sweep", "checks")
+            for key, spec in keys.items() if spec.kind == "number"}
 
 
-def load_sweep(path: str | Path) -> SweepSpec:
-    """Read and validate a sweep file (see the module docstring)."""
+def load_sweep(path, limits: Limits | None = None) -> SweepSpec:
+    """Read, validate and bound a sweep file (see the module docstring; errors name the
+    file)."""
     path = Path(path)
-    return sweep_spec(path.stem, read_toml(path))
+    try:
+        return sweep_spec(path.stem, files.read_toml(path), limits)
+    except UserError as exc:
+        raise exc.in_file(path) from None
 
 
-def sweep_spec(name: str, raw: dict) -> SweepSpec:
+def sweep_spec(name: str, raw: dict, limits: Limits | None = None) -> SweepSpec:
     """A :class:`SweepSpec` from a parsed sweep file."""
+    limits = limits or Limits()
     raw = copy.deepcopy(raw)
-    head = checked_sections({"sweep": raw.pop("sweep", {})}, {"sweep": _SWEEP},
-                            nested=("sweep",))["sweep"]
-    kind = _choice("kind", head["kind"], KINDS)
-    report = _choice("report", head["report"], REPORTS)
-    sections, nested, default_chunk = KINDS[kind]
+    head = raw.get("sweep", {})
+    kind = files.value_of("[sweep] kind", head.get("kind", "blow"),
+                          files.SECTIONS["sweep"]["kind"])
     given = [s for s in _SAMPLINGS if s in raw]
     if len(given) != 1:
-        raise SceneError(f"a sweep needs exactly one of [grid] or [random] (got "
-                         f"{', '.join(given) or 'none'})")
+        raise UserError(f"a sweep needs exactly one of [grid] or [random] (got "
+                        f"{', '.join(given) or 'none'})")
     sampling = given[0]
     allowed = variables(kind)
-    table = {sampling: {k: ((list, dict) if sampling == "grid" else dict, None) for k in allowed}}
-    given = raw.pop(sampling)
-    varied = checked_sections({sampling: given}, table, nested=(sampling,))[sampling]
-    dims = tuple(_dimension(sampling, k, varied[k]) for k in given)    # file order
-    if not dims:
-        raise SceneError(f"[{sampling}] varies nothing; allowed: {', '.join(allowed)}")
-    base = checked_sections(raw, sections, nested=nested)
+    varied = raw.pop(sampling)
+    if not isinstance(varied, dict):
+        raise UserError(key=f"[{sampling}]", value=varied, allowed="a section of varied keys")
+    if not varied:
+        raise UserError(f"[{sampling}] varies nothing; allowed: {', '.join(allowed)}")
+    for key, value in varied.items():
+        if key not in allowed:
+            raise UserError(f"unknown key {key!r} in [{sampling}]; allowed: "
+                            f"{', '.join(allowed)}")
+        if not isinstance(value, (list, dict) if sampling == "grid" else dict):
+            raise UserError(key=f"[{sampling}] {key}", value=value,
+                            allowed="a list or a table" if sampling == "grid" else "a table")
+    file_kind, nested, default_chunk = KINDS[kind]
+    base = files.checked(raw, file_kind, varied=tuple(varied))
+    head = base.pop("sweep")
+    report = head["report"]
+    dims = tuple(_dimension(sampling, k, varied[k], limits) for k in varied)    # file order
     if sampling == "grid":
         n_cases = math.prod(len(d.values) for d in dims)
         if head["samples"] is not None:
-            raise SceneError("[sweep] samples is for a random sample; a grid has "
-                             f"{n_cases} cases")
+            raise UserError("[sweep] samples is for a random sample; a grid has "
+                            f"{n_cases} cases")
     else:
         n_cases = head["samples"]
-        if n_cases is None or n_cases < 1:
-            raise SceneError(f"[sweep] samples = {n_cases!r}; allowed: an integer >= 1 "
-                             f"(a random sample needs it)")
+        if n_cases is None:
+            raise UserError("[sweep] samples is missing: a random sample needs it (an integer "
+                            ">= 1)")
+    limits.check("cases", n_cases, f"the sweep's {n_cases:.3g} cases")
     chunk = head["chunk"]
-    if chunk is not None and chunk < 1:
-        raise SceneError(f"[sweep] chunk = {chunk!r}; allowed: >= 1")
     spec = SweepSpec(name, kind, base, sampling, dims, head["seed"], n_cases,
                      chunk or default_chunk, report, digest="")
     runner = runner_of(spec)                    # decided by the cases, not by their chunking
     if chunk is None:
         chunk = BATCH_CHUNK if runner == "batch" else default_chunk
+    limits.check("tasks", -(-n_cases // chunk), f"{n_cases:.3g} cases in chunks of {chunk}")
     digest = _digest(kind, base, sampling, dims, head["seed"], n_cases, chunk, report)
     return dataclasses.replace(spec, chunk=chunk, digest=digest, runner=runner)
 
 
-def _choice(key: str, value: str, table: dict) -> str:
-    if value not in table:
-        raise SceneError(f"[sweep] {key} = {value!r}; allowed: {', '.join(table)}")
-    return value
-
-
-def _dimension(sampling: str, name: str, value) -> Dimension:
+def _dimension(sampling: str, name: str, value, limits: Limits) -> Dimension:
     """One varied name checked against the grid forms or the distributions table."""
     if sampling == "grid":
-        return Dimension(name, values=_grid_values(name, value))
+        return Dimension(name, values=_grid_values(name, value, limits))
     dist = value.get("dist")
     if dist not in DISTRIBUTIONS:
-        raise SceneError(f"[random] {name}: dist = {dist!r}; allowed: {', '.join(DISTRIBUTIONS)}")
+        raise UserError(f"[random] {name}: dist = {dist!r}; allowed: {', '.join(DISTRIBUTIONS)}")
     keys = DISTRIBUTIONS[dist].keys
     unknown = sorted(set(value) - {"dist", *keys})
     missing = [k for k in keys if k not in value]
     if unknown or missing:
-        raise SceneError(f"[random] {name}: {dist} takes {', '.join(keys)} "
+        raise UserError(f"[random] {name}: {dist} takes {', '.join(keys)} "
                          f"(unknown: {unknown}, missing: {missing})")
     numbers = tuple(_number(f"[random] {name}", k, value[k]) for k in keys)
     problem = DISTRIBUTIONS[dist].check(*numbers)
     if problem:
-        raise SceneError(f"[random] {name}: {dist} {problem}")
+        raise UserError(f"[random] {name}: {dist} {problem}")
     return Dimension(name, dist=dist, args=numbers)
 
 
-def _grid_values(name: str, value) -> np.ndarray:
+def _grid_values(name: str, value, limits: Limits) -> np.ndarray:
     where = f"[grid] {name}"
     if isinstance(value, list):
         if not value:
-            raise SceneError(f"{where} = []; allowed: a non-empty list of numbers")
+            raise UserError(f"{where} = []; allowed: a non-empty list of numbers")
         return np.array([_number(where, str(i), v) for i, v in enumerate(value)])
     unknown = sorted(set(value) - set(GRID_KEYS))
     if unknown or not {"start", "stop", "num"} <= set(value):
-        raise SceneError(f"{where}: a table takes {', '.join(GRID_KEYS)} (start, stop, num "
+        raise UserError(f"{where}: a table takes {', '.join(GRID_KEYS)} (start, stop, num "
                          f"required; unknown: {unknown})")
     start, stop = (_number(where, k, value[k]) for k in ("start", "stop"))
     num, scale = value["num"], value.get("scale", "linear")
     if not (isinstance(num, int) and not isinstance(num, bool) and num >= 1):
-        raise SceneError(f"{where}: num = {num!r}; allowed: an integer >= 1")
+        raise UserError(f"{where}: num = {num!r}; allowed: an integer >= 1")
+    limits.check("cases", num, f"{where}: num = {num}")
     if scale not in GRID_SCALES:
-        raise SceneError(f"{where}: scale = {scale!r}; allowed: {', '.join(GRID_SCALES)}")
+        raise UserError(f"{where}: scale = {scale!r}; allowed: {', '.join(GRID_SCALES)}")
     return GRID_SCALES[scale](start, stop, num, where)
 
 
 def _number(where: str, key: str, value) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise SceneError(f"{where}: {key} = {value!r}; allowed: a finite number")
+        raise UserError(f"{where}: {key} = {value!r}; allowed: a finite number")
     return float(value)
 
 

@@ -68,8 +68,8 @@ def _linear(start, stop, num, where):
 
 def _log(start, stop, num, where):
     if not (start > 0.0 and stop > 0.0):
-        from pipeplug_harness.scenes.file import SceneError
-        raise SceneError(f"{where}: scale = \"log\" needs start, stop > 0 (got {start}, {stop})")
+        from pipeplug_harness.errors import UserError
+        raise UserError(f"{where}: scale = \"log\" needs start, stop > 0 (got {start}, {stop})")
     return np.geomspace(start, stop, num)
 
 

@@ -33,8 +33,9 @@ class Plan:
         return self.start + self.steps * self.step
 
 
-def check_system(system: SystemFile, stop: float | None = None) -> Plan:
-    """Check ``system``; ``stop`` [s] overrides the file's stop time.
+def check_system(system: SystemFile, stop: float | None = None, limits=None) -> Plan:
+    """Check ``system``; ``stop`` [s] overrides the file's stop time; ``limits``
+    (:class:`pipeplug_harness.limits.Limits`) bounds its steps.
 
     Without either, a system with one Hammer of a finite train stops one period after its last
     blow starts. Raises :class:`SystemFileError` naming the component and the refused value.
@@ -58,7 +59,12 @@ def check_system(system: SystemFile, stop: float | None = None) -> Plan:
         raise SystemFileError(f"{system.path}: step {system.step!r} s and start "
                               f"{system.start!r} s must be finite, the step > 0")
     stop = _stop(system, stop)
+    if not math.isfinite(stop):
+        raise SystemFileError(f"stop time {stop!r} s: must be a finite number")
     exact = (stop - system.start) / system.step
+    if limits is not None:
+        limits.check("steps", exact, f"stop time {stop!r} s in steps of {system.step!r} s")
+        limits.memory(exact * (1 + 40), f"{exact:.3g} steps of every input and output")
     steps = math.ceil(exact - _GRID_TOLERANCE)
     if steps < 1:
         raise SystemFileError(f"stop time {stop!r} s: must be after the start "
@@ -66,6 +72,12 @@ def check_system(system: SystemFile, stop: float | None = None) -> Plan:
     if abs(exact - round(exact)) > _GRID_TOLERANCE:
         warnings.append(f"stop time {stop!r} s is not on the step grid: running {steps} steps")
     for hammer in system.of_model("Hammer"):
+        if limits is not None:
+            train = blows.check(hammer.values)
+            many = (stop - train.start) / train.period + 1
+            limits.check("blows", min(many, train.count or many),
+                         f"component {hammer.name}: blows every {train.period!r} s to "
+                         f"{stop!r} s")
         misses = systems.grid_misses(systems.System(
             hammer=hammer.values, start=system.start, stop=stop, step=system.step))
         if misses:

@@ -9,21 +9,28 @@ precision) and
 from __future__ import annotations
 
 import argparse
-import csv
+import math
 import time
 from pathlib import Path
 
-from .checks import check_system
-from .files import SystemFileError, read_system
+from pipeplug_fmu.fmi import INPUTS
+from pipeplug_harness import io
+from pipeplug_harness.errors import UserError
+from pipeplug_harness.paper import OUTPUT_UNITS
 
-DEFAULT_SSP = Path("dist") / "PipeRamming.ssp"
+from .checks import check_system
+from .files import read_system
+
+#: units of the variables of the system's FMUs: PipePlug's outputs and inputs (Q, strikes,
+#: v_strike), which are also the names of Hammer's outputs connected to them
+UNITS = {**OUTPUT_UNITS, **{name: unit or "1" for name, _, unit, _, _ in INPUTS}}
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     files = parser.add_mutually_exclusive_group()
-    files.add_argument("--ssp", type=Path, help=f"an SSP system: .ssp archive, .ssd file or "
-                                                f"a folder with SystemStructure.ssd (default: "
-                                                f"{DEFAULT_SSP})")
+    files.add_argument("--ssp", type=Path, help="an SSP system: .ssp archive, .ssd file or "
+                                                "a folder with SystemStructure.ssd (default: "
+                                                "PipeRamming.ssp of this installation's build)")
     files.add_argument("--osp", type=Path, help="an OSP system: OspSystemStructure.xml or its "
                                                 "folder")
     parser.add_argument("--stop", type=float, help="stop time [s] (default: the file's; for an "
@@ -34,13 +41,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def main(args: argparse.Namespace) -> int:
-    route, path = ("osp", args.osp) if args.osp else ("ssp", args.ssp or DEFAULT_SSP)
-    try:
-        system = read_system(path, route)
-        plan = check_system(system, args.stop)
-    except SystemFileError as exc:
-        print(f"pipeplug system: refused: {exc}")
-        return 2
+    if args.osp:
+        route, path = "osp", args.osp
+    elif args.ssp:
+        route, path = "ssp", args.ssp
+    else:
+        from pipeplug_harness.fmus import find_fmu
+        route, path = "ssp", find_fmu(None, "PipeRamming.ssp")
+    if args.stop is not None and not math.isfinite(args.stop):
+        raise UserError(key="--stop", value=args.stop, allowed="a finite time [s]")
+    system = read_system(path, route)
+    plan = check_system(system, args.stop, args.limits)
     for warning in plan.warnings:
         print(f"warning: {warning}")
     names = ", ".join(f"{c.name} ({c.model})" for c in system.components.values())
@@ -48,17 +59,20 @@ def main(args: argparse.Namespace) -> int:
           f"{plan.start!r} s", flush=True)
     from .run import run_system
 
-    began = time.perf_counter()
-    try:
-        result = run_system(system, plan)
-    except AssertionError as exc:          # libcosimpy's way of saying libcosim refused it
-        print(f"pipeplug system: libcosim refused {path}: {exc}")
-        return 2
-    elapsed = time.perf_counter() - began
-    args.out.mkdir(parents=True, exist_ok=True)
-    stem = Path(path).stem if Path(path).is_file() else Path(path).name
-    csv_path = _write_csv(args.out / f"{stem}.csv", result)
-    png_path = _plot(args.out / f"{stem}.png", result, system, path)
+    with io.OutputFolder(args.out, "system") as out:
+        began = time.perf_counter()
+        try:
+            result = run_system(system, plan)
+        except AssertionError as exc:          # libcosimpy's way of saying libcosim refused it
+            raise UserError(f"libcosim refused {path}: {exc}") from None
+        elapsed = time.perf_counter() - began
+        stem = Path(path).stem if Path(path).is_file() else Path(path).name
+        names = list(result)
+        units = {n: UNITS.get(n.rpartition(".")[2], "") for n in names}
+        units["time"] = "s"
+        csv_path = io.write_csv(out.file(f"{stem}.csv"), names,
+                                zip(*(result[n] for n in names)), units)
+        png_path = _plot(out.file(f"{stem}.png"), result, system, path)
     print(f"libcosim: {plan.steps} steps to t = {float(result['time'][-1])!r} s in {elapsed:.2f} s "
           f"({1e6 * elapsed / plan.steps:.0f} us per step)")
     for pipeplug in system.of_model("PipePlug"):
@@ -66,24 +80,6 @@ def main(args: argparse.Namespace) -> int:
         print(f"{pipeplug.name}: u_pipe at the end {u[-1]:.6g} m, max v_pipe {v.max():.6g} m/s")
     print(f"wrote {csv_path} and {png_path}")
     return 0
-
-
-def _write_csv(path: Path, result: dict) -> Path:
-    names = list(result)
-    with open(path, "w", newline="") as fh:
-        writer = csv.writer(fh)
-        writer.writerow(names)
-        for k in range(len(result["time"])):
-            writer.writerow([_text(result[name][k]) for name in names])
-    return path
-
-
-def _text(value) -> str:
-    """A value at full precision (Reals round-trip; Booleans as 0/1)."""
-    if isinstance(value, (bool, int)) or getattr(value, "dtype", None) is not None and \
-            value.dtype.kind in "biu":
-        return str(int(value))
-    return repr(float(value))
 
 
 #: What each panel draws; a ram's head force and velocity only where the system has a ram.
@@ -98,11 +94,7 @@ _HELD = {"Hammer": dict(drawstyle="steps-post"), "PipePlug": dict(drawstyle="ste
 
 
 def _plot(path: Path, result: dict, system, source) -> Path:
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, axes = plt.subplots(len(_PANELS), 1, figsize=(8, 8), sharex=True)
+    fig, axes = io.subplots(len(_PANELS), 1, figsize=(8, 8), sharex=True)
     t_ms = result["time"] * 1e3
     for ax, (label, variables, scale) in zip(axes, _PANELS):
         for component in system.components.values():
@@ -119,6 +111,4 @@ def _plot(path: Path, result: dict, system, source) -> Path:
     axes[0].set_title(f"{Path(source).name}: libcosim, step {system.step * 1e3:g} ms",
                       fontsize=9)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return path
+    return io.save_png(fig, path)

@@ -22,6 +22,8 @@ from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 from xml.etree import ElementTree as ET
 
+from pipeplug_harness.errors import UserError
+
 __all__ = ["Component", "SystemFile", "SystemFileError", "read_system", "ROUTES"]
 
 ROUTES = ("ssp", "osp")
@@ -33,7 +35,7 @@ _OSP = "{http://opensimulationplatform.com/MSMI/OSPSystemStructure}"
 _OSP_DEFAULT_STEP = 0.1        # libcosim's base step when an OSP file gives none [s]
 
 
-class SystemFileError(ValueError):
+class SystemFileError(UserError):
     """A system file that cannot be run as it is (the message says why)."""
 
 
@@ -69,9 +71,10 @@ def read_system(path: Path | str, route: str) -> SystemFile:
         raise SystemFileError(f"{path}: no such file or folder")
     try:
         return _read_ssp(path) if route == "ssp" else _read_osp(path)
-    except (ET.ParseError, KeyError, ValueError, zipfile.BadZipFile) as exc:
-        if isinstance(exc, SystemFileError):
-            raise
+    except SystemFileError as exc:
+        raise exc.in_file(path) from None
+    except (ET.ParseError, KeyError, ValueError, TypeError, IndexError, OSError,
+            zipfile.BadZipFile) as exc:
         raise SystemFileError(f"{path}: cannot be read as {route.upper()}: "
                               f"{type(exc).__name__}: {exc}") from None
 
@@ -94,9 +97,13 @@ class _Files:
 
 
 def _normalised(name: str) -> str:
+    """``name`` inside the archive with ``.`` and ``..`` resolved; a name that leaves the
+    archive is refused."""
     parts = []
     for part in PurePosixPath(name).parts:
         if part == "..":
+            if not parts:
+                raise SystemFileError(f"source {name!r} points outside the archive")
             parts.pop()
         elif part != ".":
             parts.append(part)

@@ -10,25 +10,36 @@ case fails its tolerance (usable in a CI pipeline).
 from __future__ import annotations
 
 import argparse
-import csv
 import math
 from dataclasses import replace
-from pathlib import Path
 
 import numpy as np
 
 from pipeplug import PARAMETERS
 from pipeplug_fmu.fmi import DEFAULT_EXPERIMENT
-from pipeplug_harness.fmu_run import DEFAULT_FMU, Pulse, Run, load_signal, run_fmu
+from pipeplug_harness import io
+from pipeplug_harness.errors import UserError
+from pipeplug_harness.fmus import find_fmu
+from pipeplug_harness.load import Load
+from pipeplug_harness.paper import (
+    PARAMETER_UNITS,
+    Q0,
+    RIGID_PARAMETERS,
+    SYMBOLS,
+    T0,
+    rigid_values,
+)
+from pipeplug_harness.session import simulate
 from pipeplug_references import closed_form as cf
 
 #: solver -> (FMU start values, tolerance on errors relative to the peaks)
 SOLVERS = {"exact": ({"solver": "exact"}, 1e-9), "fd": ({"solver": "fd", "dt": 2e-4}, 1e-2)}
-COMPARED = {"v_pipe": "V1", "v_plug": "V2", "u_pipe": "U1", "u_plug": "U2"}
+COMPARED = SYMBOLS
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
-    parser.add_argument("--fmu", default=str(DEFAULT_FMU), help="the FMU (default: %(default)s)")
+    parser.add_argument("--fmu", help="the FMU (default: the build of this installation, made "
+                                      "once into the user's cache)")
     parser.add_argument("--out", default="out/validate", help="output folder (%(default)s)")
     parser.add_argument("--random", type=int, default=12, help="random pulses (%(default)s)")
     parser.add_argument("--seed", type=int, default=2024, help="random seed (%(default)s)")
@@ -55,11 +66,10 @@ def _stop_time(case: cf.Case) -> float:
     return float(np.clip(1.15 * max(finite + [case.t0]), 0.1, 1.0))
 
 
-def _run_for(case: cf.Case, solver_values: dict, step: float) -> Run:
-    params = {k: getattr(case, k) for k in ("L1", "L2", "R1", "h1", "rho1", "rho2", "tau1",
-                                             "tau2")}
-    return Run(params={**params, **solver_values}, pulses=[Pulse(0.0, case.t0, case.Q0)],
-               step=step, stop_time=_stop_time(case))
+def _run(fmu, case: cf.Case, solver_values: dict, step: float) -> np.ndarray:
+    """The FMU's run of a closed-form case (one pulse from rest)."""
+    return simulate(fmu, {**rigid_values(case), **solver_values},
+                    Load.from_pulses([(0.0, case.t0, case.Q0)]), step, _stop_time(case))
 
 
 def compare(case: cf.Case, result: np.ndarray) -> dict:
@@ -75,80 +85,76 @@ def compare(case: cf.Case, result: np.ndarray) -> dict:
 
 
 def main(args: argparse.Namespace) -> int:
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
-    rows, failures = [], 0
-    for name, case in cases(args.random, args.seed):
-        for solver, (values, tol) in SOLVERS.items():
-            result = run_fmu(_run_for(case, values, args.step), args.fmu)
-            err = compare(case, result)
-            worst = max(err.values())
-            ok = worst <= tol
-            failures += not ok
-            rows.append(dict(case=name, domain=cf.domain(case), solver=solver,
-                             tau1=case.tau1, tau2=case.tau2, Q0=case.Q0, t0=case.t0,
-                             **{f"err_{k}": v for k, v in err.items()}, worst=worst,
-                             tolerance=tol, passed=ok))
-    _write_csv(out / "validate.csv", rows)
-    write_cross_check(out)
+    if args.random < 0:
+        raise UserError(key="--random", value=args.random, allowed=">= 0")
+    if not (args.step > 0.0 and math.isfinite(args.step)):
+        raise UserError(key="--step", value=args.step, allowed="> 0 s")
+    args.limits.check("steps", 1.0 / args.step, f"--step {args.step!r} s over a case of up to 1 s")
+    args.limits.check("cases", args.random, f"--random {args.random}")
+    args.limits.memory(2 * args.random * 20, f"--random {args.random} cases' rows")
+    fmu = find_fmu(args.fmu)
+    with io.OutputFolder(args.out, "validate") as out:
+        rows, failures = [], 0
+        for name, case in cases(args.random, args.seed):
+            for solver, (values, tol) in SOLVERS.items():
+                err = compare(case, _run(fmu, case, values, args.step))
+                worst = max(err.values())
+                ok = worst <= tol
+                failures += not ok
+                rows.append(dict(case=name, domain=cf.domain(case), solver=solver,
+                                 tau1=case.tau1, tau2=case.tau2, Q0=case.Q0, t0=case.t0,
+                                 **{f"err_{k}": v for k, v in err.items()}, worst=worst,
+                                 tolerance=tol, passed=ok))
+        io.write_records(out.file("validate.csv"), rows,
+                         units={"tau1": PARAMETER_UNITS["tau1"], "tau2": PARAMETER_UNITS["tau2"],
+                                "Q0": "N", "t0": "s"})
+        write_cross_check(out)
     print(_table(rows))
     print(f"\n{len(rows) - failures} passed, {failures} failed")
     return 1 if failures else 0
 
 
-def _write_csv(path: Path, rows: list[dict]) -> None:
-    with open(path, "w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
-        writer.writeheader()
-        writer.writerows(rows)
-
-
 def _table(rows: list[dict]) -> str:
     """A short markdown table: the worst error per solver and domain."""
-    lines = ["| solver | domain | cases | max error (velocities) | max error (displacements) "
-             "| tolerance | failed |", "|---|---|---|---|---|---|---|"]
-    keys = sorted({(r["solver"], r["domain"]) for r in rows})
-    for solver, dom in keys:
+    lines = []
+    for solver, dom in sorted({(r["solver"], r["domain"]) for r in rows}):
         sel = [r for r in rows if r["solver"] == solver and r["domain"] == dom]
         ev = max(max(r["err_v_pipe"], r["err_v_plug"]) for r in sel)
         eu = max(max(r["err_u_pipe"], r["err_u_plug"]) for r in sel)
-        lines.append(f"| {solver} | {dom} | {len(sel)} | {ev:.2e} | {eu:.2e} | "
-                     f"{sel[0]['tolerance']:.0e} | {sum(not r['passed'] for r in sel)} |")
-    return "\n".join(lines)
+        lines.append([solver, dom, len(sel), f"{ev:.2e}", f"{eu:.2e}",
+                      f"{sel[0]['tolerance']:.0e}", sum(not r["passed"] for r in sel)])
+    return io.markdown_table(["solver", "domain", "cases", "max error (velocities)",
+                              "max error (displacements)", "tolerance", "failed"], lines)
 
 
 #: The cross-check case: the FMU's own defaults (a third party simulates with them), under the
 #: paper's blow, on the FMU's DefaultExperiment. Reference columns: every output the closed form
 #: gives that is continuous in time (forces jump at friction events).
-CROSS_CHECK_BLOW = Pulse(0.0, 0.05, 23e3)
-CROSS_CHECK_COLUMNS = {"v_pipe": "V1", "v_plug": "V2", "u_pipe": "U1", "u_plug": "U2",
-                       "W_input": "W_input", "W_friction": "W_friction"}
+CROSS_CHECK_BLOW = (0.0, T0, Q0)
+CROSS_CHECK_COLUMNS = {**SYMBOLS, "W_input": "W_input", "W_friction": "W_friction"}
 
 
-def write_cross_check(out: Path) -> None:
-    """FMI cross-check files ``PipePlug_in.csv``, ``PipePlug_ref.csv``, ``PipePlug_ref.opt``.
+def write_cross_check(out) -> None:
+    """FMI cross-check files ``PipePlug_in.csv``, ``PipePlug_ref.csv``, ``PipePlug_ref.opt``
+    into the output folder ``out``.
 
     The case is the FMU at its default start values (the cross-check rules simulate the FMU
     with its defaults and the ``_in.csv`` input), the reference the closed form of that case at
-    the ``.opt`` file's output points; no FMU run is involved.
+    the ``.opt`` file's output points; no FMU run is involved. The rules fix the headers: plain
+    variable names, no units.
     """
     defaults = {p.name: p.default for p in PARAMETERS}
-    case = cf.Case(**{k: defaults[k] for k in ("L1", "L2", "R1", "h1", "rho1", "rho2", "tau1",
-                                               "tau2")},
-                   Q0=CROSS_CHECK_BLOW.amplitude, t0=CROSS_CHECK_BLOW.duration)
+    case = cf.Case(**{k: defaults[k] for k in RIGID_PARAMETERS},
+                   Q0=CROSS_CHECK_BLOW[2], t0=CROSS_CHECK_BLOW[1])
     start, stop, step = DEFAULT_EXPERIMENT
-    signal = load_signal(Run(pulses=[CROSS_CHECK_BLOW], stop_time=stop))
-    with open(out / "PipePlug_in.csv", "w", newline="") as fh:
-        writer = csv.writer(fh)
-        writer.writerow(["time", "Q"])
-        writer.writerows((repr(float(t)), repr(float(q))) for t, q in signal)
+    signal = Load.from_pulses([CROSS_CHECK_BLOW]).signal(stop)
+    io.write_csv(out.file("PipePlug_in.csv"), ["time", "Q"], signal.tolist(),
+                 titles=["time", "Q"])
     t = np.linspace(start, stop, round((stop - start) / step) + 1)
     ref = cf.solution(case, t)
-    with open(out / "PipePlug_ref.csv", "w", newline="") as fh:
-        writer = csv.writer(fh)
-        writer.writerow(["time", *CROSS_CHECK_COLUMNS])
-        for i, ti in enumerate(t):
-            writer.writerow([repr(float(ti))]
-                            + [repr(float(ref[k][i])) for k in CROSS_CHECK_COLUMNS.values()])
-    (out / "PipePlug_ref.opt").write_text(
+    names = ["time", *CROSS_CHECK_COLUMNS]
+    io.write_csv(out.file("PipePlug_ref.csv"), names,
+                 ([ti] + [ref[k][i] for k in CROSS_CHECK_COLUMNS.values()]
+                  for i, ti in enumerate(t)), titles=names)
+    out.file("PipePlug_ref.opt").write_text(
         f"StartTime, {start!r}\nStopTime, {stop!r}\nStepSize, {step!r}\nRelTol, 1e-09\n")

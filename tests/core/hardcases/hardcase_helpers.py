@@ -1,7 +1,7 @@
 """Shared helpers of the stability tests (a module name of its own: test folders share sys.path).
 
 The catalogue of hard cases and its exact references live in the harness
-(:mod:`pipeplug_harness.hardcases.cases`, :mod:`pipeplug_harness.hardcases.refs`), so that
+(:mod:`pipeplug_harness.stability.cases`, :mod:`pipeplug_harness.stability.refs`), so that
 ``pipeplug stability`` prints the same cases the tests check.
 """
 from __future__ import annotations

@@ -1,17 +1,35 @@
 """Shared helpers of the drive tests."""
 from __future__ import annotations
 
+#: What a drive file must give, with the values the tests' drives had when these were the
+#: files' defaults (the paper's pipe and plug, no soil friction, its blow every 0.1 s).
+REQUIRED = {"pipe": {"L1": 1.0}, "plug": {"L2": 1.0, "tau2": 1.0e4}, "soil": {"tau1": 0.0},
+            "blows": {"amplitude": 23000.0, "duration": 0.05, "period": 0.1}}
 
-def toml_text(sections: dict) -> str:
-    """A drive file from nested dicts (numbers written exactly)."""
+
+def complete(sections: dict) -> dict:
+    """``sections`` with every required section and key filled in from :data:`REQUIRED`."""
+    out = {name: dict(keys) for name, keys in REQUIRED.items()}
+    for name, keys in sections.items():
+        out.setdefault(name, {}).update(keys)
+    if "rate" in out["blows"]:
+        out["blows"].pop("period")
+    return out
+
+
+def toml_text(sections: dict, fill: bool = True) -> str:
+    """A drive file from nested dicts (numbers written exactly); the required sections filled
+    in unless ``fill`` is false."""
     lines = []
-    for section, keys in sections.items():
+    for section, keys in (complete(sections) if fill else sections).items():
         lines.append(f"[{section}]")
         for key, value in keys.items():
             if isinstance(value, bool):
                 text = "true" if value else "false"
             elif isinstance(value, str):
                 text = f'"{value}"'
+            elif isinstance(value, (list, tuple)):
+                text = "[" + ", ".join(f'"{v}"' for v in value) + "]"
             else:
                 text = repr(int(value) if isinstance(value, int) else float(value))
             lines.append(f"{key} = {text}")

@@ -8,11 +8,12 @@ from pathlib import Path
 import pytest
 from drive_helpers import toml_text
 
+from pipeplug import OUTPUTS, Outputs
 from pipeplug_harness.drive.checks import DriveInvalid, Limits, check_blow
 from pipeplug_harness.drive.file import GRID_CELLS, grid_for, load_drive
 from pipeplug_harness.drive.run import Blow, drive_with, run_drive_on_core
-from pipeplug_harness.drive.session import CoreSession, Reading
-from pipeplug_harness.scenes.file import SceneError
+from pipeplug_harness.errors import UserError
+from pipeplug_harness.session import CoreSession
 
 CASING = Path(__file__).resolve().parents[3] / "scenes" / "drives" / "casing_24in_17m.toml"
 
@@ -68,7 +69,8 @@ def test_the_check_names_the_blow_and_the_numbers(tmp_path):
     spec = load_drive(_casing(tmp_path))
     limits = Limits.of(spec)
     blow = Blow(7, 1.8, 0.01, 0.5, 3.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, "rest", 0.1, 10, 0.0)
-    created = Reading(0.0, 0.0, 0.5, 7.787e6, 7.889e6, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, True)
+    created = Outputs(*(0.0 for _ in OUTPUTS))._replace(u_pipe=0.5, W_input=7.787e6,
+                                                        W_friction_outer=7.889e6, at_rest=True)
     with pytest.raises(DriveInvalid) as info:
         check_blow(limits, blow, created, 2.1, 1000)
     text = str(info.value)
@@ -100,11 +102,11 @@ def test_the_default_grid_fits_the_plug_or_asks_for_dx(tmp_path):
     cells = round(10.0 / spec.start_values["dx"])
     assert cells >= 40 and (cells * 2.5 / 10.0) == round(cells * 2.5 / 10.0)
     p = spec.params()
-    with pytest.raises(SceneError, match="give dx"):
+    with pytest.raises(UserError, match="give dx"):
         grid_for(p.with_(L2=10.0 / math.pi), 1e-3)
 
 
 @pytest.mark.parametrize("amplitude", ["-2.2133e6", "0.0"])
 def test_a_blow_must_push(tmp_path, amplitude):
-    with pytest.raises(SceneError, match=r"amplitude = .* allowed: > 0"):
+    with pytest.raises(UserError, match=r"amplitude = .* allowed: > 0"):
         load_drive(_casing(tmp_path, amplitude=amplitude))

@@ -23,6 +23,7 @@ def test_an_elastic_drive_reaches_its_target(pipeplug_cli, fmu_file, tmp_path):
                       r"penetration ([0-9.]+) m", proc.stdout)
     assert found, proc.stdout
     rows = list(csv.DictReader(open(tmp_path / "o" / "el.csv")))
+    assert list(rows[0])[:4] == ["blow", "t_start [s]", "set [m]", "penetration [m]"]
     assert len(rows) == int(found.group(1)) > 1
     sets = [float(r["set [m]"]) for r in rows]
     penetration = [float(r["penetration [m]"]) for r in rows]
@@ -37,10 +38,22 @@ def test_an_elastic_drive_reaches_its_target(pipeplug_cli, fmu_file, tmp_path):
         assert (tmp_path / "o" / name).stat().st_size > 10_000
 
 
+def test_a_solver_option_is_set_as_the_fmu_takes_it(pipeplug_cli, fmu_file, tmp_path):
+    """[model] solver = "exact" ended in a traceback (AttributeError from setString)."""
+    (tmp_path / "s.toml").write_text(toml_text({
+        "soil": {"tau1": 2.0e5}, "blows": {"amplitude": 1.5e4, "duration": 0.01,
+                                           "period": 0.015},
+        "model": {"elastic": False, "solver": "exact"}, "drive": {"max_blows": 2}}))
+    proc = pipeplug_cli("drive", "s.toml", "--fmu", fmu_file, "--out", "o")
+    assert "s: 2 blows" in proc.stdout or "s: 1 blows" in proc.stdout, proc.stdout
+
+
 def test_a_bad_file_is_refused_with_the_reason(pipeplug_cli, fmu_file, tmp_path):
-    (tmp_path / "bad.toml").write_text("[drive]\ntarget = 2.0\n")
+    (tmp_path / "bad.toml").write_text(toml_text({"drive": {"target": 2.0}}))
     proc = pipeplug_cli("drive", "bad.toml", "--fmu", fmu_file, check=False)
     assert proc.returncode == 2 and "target = 2.0 m; allowed: > 0 and <= L1 = 1.0" in proc.stderr
+    assert proc.stderr.startswith("pipeplug drive: bad.toml: [drive] target")
+    assert len(proc.stderr.splitlines()) == 1 and not proc.stdout
 
 
 class _Blow:

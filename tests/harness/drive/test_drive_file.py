@@ -4,9 +4,8 @@ from pathlib import Path
 import pytest
 from drive_helpers import toml_text
 
-from pipeplug.params import ParameterError
 from pipeplug_harness.drive.file import DEFAULT_REFUSAL, load_drive
-from pipeplug_harness.scenes.file import SceneError
+from pipeplug_harness.errors import UserError
 
 DRIVES = Path(__file__).resolve().parents[3] / "scenes" / "drives"
 
@@ -29,19 +28,41 @@ def _load(tmp_path, sections):
     ({"drive": {"refusal_count": 10}}, "go together"),
     ({"drive": {"refusal_set": -1e-3}}, "allowed: >= 0"),
     ({"blows": {"duration": 0.2, "period": 0.1}}, r"period = 0.1 s; allowed: > duration"),
+    # each of these ran before and gave a result, silently wrong (exit 0)
+    ({"blows": {"amplitude": -2.0e4}}, r"amplitude = -20000.0 N; allowed: > 0"),
+    ({"blows": {"amplitude": "nan N"}}, r"amplitude = 'nan N'; allowed: a finite quantity"),
+    ({"soil": {"tau1": 2e8}}, r'tau1 = 200000000.0 Pa is outside .*allow = \["tau1"\]'),
+    ({"blows": {"amplitude": float("nan")}}, r"amplitude = nan; allowed: a finite number"),
+    ({"blows": {"duration": 0.0}, "drive": {"step": 1e-3}}, r"duration = 0.0; allowed: > 0 s"),
 ])
 def test_unknown_or_bad_values_name_the_allowed_ones(tmp_path, sections, match):
-    with pytest.raises(SceneError, match=match):
+    with pytest.raises(UserError, match=match):
         _load(tmp_path, sections)
 
 
 def test_the_core_checks_every_parameter(tmp_path):
-    with pytest.raises(ParameterError, match="dx = 0.3"):          # does not divide L1 = 1 m
+    with pytest.raises(UserError, match="dx = 0.3"):          # does not divide L1 = 1 m
         _load(tmp_path, {"model": {"elastic": True, "dx": 0.3}})
-    with pytest.raises(ParameterError, match="tau1 = -1.0"):
+    with pytest.raises(UserError, match="tau1 = -1.0"):
         _load(tmp_path, {"soil": {"tau1": -1.0}})
-    with pytest.raises(ParameterError, match="solver = 'euler'"):
+    with pytest.raises(UserError, match="solver = 'euler'"):
         _load(tmp_path, {"model": {"solver": "euler"}})
+
+
+def test_a_missing_section_is_an_error(tmp_path):
+    path = tmp_path / "d.toml"
+    sections = {"pipe": {"L1": 1.0}, "plug": {"L2": 1.0, "tau2": 1e4},
+                "blows": {"amplitude": 1e4, "duration": 0.01, "period": 0.1}}
+    path.write_text(toml_text(sections, fill=False))
+    with pytest.raises(UserError, match=r"d.toml: missing section \[soil\]"):
+        load_drive(path)
+
+
+def test_work_past_the_limits_is_refused_before_the_drive(tmp_path):
+    """step = 1e-12 took 11.7 GB in 40 s before any check."""
+    with pytest.raises(UserError, match=r"step = 1e-12 s over a blow of 0.05 s asks for "
+                                        r"5e\+10 steps.*--limit steps="):
+        _load(tmp_path, {"drive": {"step": 1e-12}, "checks": {"allow": ["step"]}})
 
 
 def test_defaults_and_the_monitored_front_end(tmp_path):

@@ -22,6 +22,7 @@ def _count(pattern: str, text: str) -> int:
 def test_fuzz_finds_no_failure(pipeplug_cli, fmu_dir, seed, cases):
     proc = pipeplug_cli("fuzz", "--seed", seed, "--cases", cases, "--reference-every", 10,
                         "--fmu-every", 20, "--fd-every", 400, "--fmu", fmu_dir, "--out", "out",
+                        "--workers", 1,
                         check=False)
     text = proc.stdout
     print(text)                                             # the counts, in the test log

@@ -12,11 +12,16 @@ from pipeplug_harness.sweep.runners import batch_misses
 from pipeplug_references import closed_form as cf
 
 RIGID = {"model": {"elastic": False}, "blows": {"amplitude": 23e3, "duration": 0.05}}
+#: what every sweep file must give (the values they had as the files' defaults)
+REQUIRED = {"pipe": {"L1": 1.0}, "plug": {"L2": 1.0, "tau2": 1.0e4}, "soil": {"tau1": 0.0},
+            "blows": {"amplitude": 23e3, "duration": 0.05}}
 CASE = cf.Case()
 
 
 def _spec(**raw):
-    return sweep_spec("t", {**RIGID, **raw})
+    sections = {**REQUIRED, **RIGID, **raw}          # a section given replaces RIGID's
+    return sweep_spec("t", {name: {**REQUIRED.get(name, {}), **keys}
+                            for name, keys in sections.items()})
 
 
 def _per_case(spec):

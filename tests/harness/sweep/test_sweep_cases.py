@@ -8,7 +8,8 @@ from pipeplug_harness.sweep.domains import classify, on_boundary
 from pipeplug_harness.sweep.file import sweep_spec
 from pipeplug_references import closed_form as cf
 
-BASE = {"soil": {"contact_growth": False}, "model": {"elastic": False},
+BASE = {"pipe": {"L1": 1.0}, "plug": {"L2": 1.0, "tau2": 1.0e4},
+        "soil": {"tau1": 0.0, "contact_growth": False}, "model": {"elastic": False},
         "blows": {"amplitude": 23e3, "duration": 0.05}, "output": {"modes": True}}
 CASE = cf.Case()
 TAU_STAR, GAMMA = CASE.tau_star, CASE.gamma
@@ -58,7 +59,7 @@ def test_final_displacements_of_a_blow_case_are_the_closed_form_s():
 
 def test_a_failing_case_is_a_row_with_its_error_and_the_others_go_on():
     """dx = 0.3 m does not divide L1 = 1 m: the elastic model refuses that case only."""
-    spec = sweep_spec("t", {"grid": {"dx": [0.25, 0.3]}, "model": {"elastic": True},
+    spec = sweep_spec("t", {**BASE, "grid": {"dx": [0.25, 0.3]}, "model": {"elastic": True},
                             "output": {"stop_time": 0.06}})
     rows = spec.run_chunk(0).to_pylist()
     assert rows[0]["error"] == "" and math.isfinite(rows[0]["u_pipe"])

@@ -8,10 +8,11 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 import pytest
 
+from pipeplug_harness.errors import UserError
 from pipeplug_harness.sweep.cluster import dask_client
 from pipeplug_harness.sweep.engine import run_campaign
 from pipeplug_harness.sweep.file import load_sweep, sweep_spec
-from pipeplug_harness.sweep.store import StoreError, read_folder
+from pipeplug_harness.sweep.store import read_folder
 
 # Short rigid drives (~3 ms each) over lognormal soil: some reach the target, some refuse.
 DRIVES = """
@@ -95,6 +96,7 @@ def test_a_batch_sweep_on_two_workers_is_the_sweep_run_here(client, tmp_path, mo
     monkeypatch.setattr(Future, "result", lambda f, *a, **k: fetched.append(f.key)
                         or result(f, *a, **k))
     spec = sweep_spec("blows", {
+        "pipe": {"L1": 1.0}, "plug": {"L2": 1.0}, "blows": {"amplitude": 23e3, "duration": 0.05},
         "sweep": {"samples": 3000, "seed": 4, "chunk": 500}, "model": {"elastic": False},
         "random": {"tau1": {"dist": "uniform", "low": 1e3, "high": 1.2e5},
                    "tau2": {"dist": "uniform", "low": 0.0, "high": 8e4}}})
@@ -121,7 +123,7 @@ def test_a_rerun_resumes_and_runs_only_the_missing_chunks(client, tmp_path):
     assert (again.skipped, again.written, again.cases) == (4, 2, 8)
     assert read_folder(out).equals(_reference(spec))
     _, other = _sweep(tmp_path, samples=25, chunk=4, name="other")
-    with pytest.raises(StoreError, match="another campaign"):
+    with pytest.raises(UserError, match="another campaign"):
         run_campaign(other, out, client, progress=False)
     assert run_campaign(other, out, client, progress=False, fresh=True).written == 7
 

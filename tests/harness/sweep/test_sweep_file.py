@@ -4,14 +4,23 @@ import numpy as np
 import pytest
 from scipy import stats
 
-from pipeplug_harness.scenes.file import SceneError
+from pipeplug_harness.errors import UserError
 from pipeplug_harness.sweep.check import check_sweep
 from pipeplug_harness.sweep.file import sweep_spec
 from pipeplug_harness.sweep.sample import uniforms, varied_values
 
+#: the sections a sweep's base case needs (the values they had as the files' defaults)
+BASE = {"pipe": {"L1": 1.0}, "plug": {"L2": 1.0, "tau2": 1.0e4}, "soil": {"tau1": 0.0},
+        "blows": {"amplitude": 23000.0, "duration": 0.05, "period": 0.1}}
+
 
 def _spec(**raw):
-    return sweep_spec("t", raw)
+    sections = {name: dict(keys) for name, keys in BASE.items()}
+    for name, keys in raw.items():
+        sections.setdefault(name, {}).update(keys)
+    if sections.get("sweep", {}).get("kind") == "drive":
+        sections["blows"].pop("count", None)
+    return sweep_spec("t", sections)
 
 
 @pytest.mark.parametrize("raw, words", [
@@ -32,9 +41,17 @@ def _spec(**raw):
     ({"grid": {"tau1": [1.0]}, "random": {"tau2": {"dist": "uniform", "low": 1.0, "high": 2.0}}},
      ["exactly one of [grid] or [random]"]),
     ({"grid": {"target": [1.0]}}, ["target", "amplitude"]),    # [drive] keys only for drives
+    ({"grid": {"tau1": {"start": 0, "stop": 1, "num": 1_000_000_000}}},
+     ["num = 1000000000 asks for 1e+09 cases", "--limit cases="]),    # 8 GB allocated before
+    ({"grid": {"tau1": {"start": 0, "stop": 1, "num": 100_000},
+               "tau2": {"start": 0, "stop": 1, "num": 100_000}}},
+     ["1e+10 cases", "--limit cases="]),                 # 4.9 GB in the client, then lost
+    ({"random": {"tau1": {"dist": "uniform", "low": 1.0, "high": 2.0}},
+      "sweep": {"samples": 10 ** 18}}, ["samples = 1000000000000000000 is outside"]),
+    ({"grid": {"tau1": [1.0]}, "pipe": {"R1": 292.3}}, ["R1 = 292.3 m is outside"]),
 ])
 def test_unknown_keys_and_values_name_the_allowed_ones(raw, words):
-    with pytest.raises(SceneError) as err:
+    with pytest.raises(UserError) as err:
         _spec(**raw)
     for word in words:
         assert word in str(err.value)
@@ -80,17 +97,17 @@ def test_each_distribution_is_its_inverse_cdf_of_the_uniforms(dist, frozen):
 def test_the_core_checks_the_corners_before_any_work():
     # L2 <= L1 fails only at the corner L1 = 1, L2 = 1.5 (a linear rule between parameters)
     spec = _spec(grid={"L1": [1.0, 2.0], "L2": [0.5, 1.5]})
-    with pytest.raises(SceneError, match=r"L1 = 1.0, L2 = 1.5: L2 = 1.5 is not allowed"):
+    with pytest.raises(UserError, match=r"L1 = 1.0, L2 = 1.5: L2 = 1.5 is not allowed"):
         check_sweep(spec)
     # a normal tau1 around 0 draws negative values: named with the allowed range
     spec = _spec(random={"tau1": {"dist": "normal", "mean": 0.0, "sd": 1.0}},
                  sweep={"samples": 5000})
-    with pytest.raises(SceneError, match=r"tau1 = -\d.*allowed: finite, >= 0"):
+    with pytest.raises(UserError, match=r"tau1 = -\d.*allowed: finite, >= 0"):
         check_sweep(spec)
     # drives: the target beyond the pipe
     spec = _spec(sweep={"kind": "drive"}, grid={"target": [0.5, 1.5]},
                  model={"elastic": False})
-    with pytest.raises(SceneError, match=r"target = 1.5.*<= L1"):
+    with pytest.raises(UserError, match=r"target = 1.5.*<= L1"):
         check_sweep(spec)
     ok = _spec(grid={"tau1": {"start": 0.0, "stop": 1e5, "num": 2000}})
     assert "corners" in check_sweep(ok)
@@ -111,3 +128,32 @@ def test_the_default_chunk_follows_the_runner(raw, runner, chunk):
     assert (spec.runner, spec.chunk) == (runner, chunk)
     assert spec.digest == _spec(grid={"tau1": [1e4, 2e4]},
                                 **{**raw, "sweep": {"chunk": chunk}}).digest
+
+
+def test_the_drivability_histogram_draws_every_drive_and_quantiles_are_whole_blows(tmp_path):
+    """A sample whose longest drive took 489 blows: its bin was past the last edge and the
+    drive was not drawn; quantiles came out in fractional blows."""
+    import pyarrow as pa
+
+    from pipeplug_harness.sweep import drivability
+    blows = [8, 9, 9, 10, 12, 15, 489]
+    table = pa.table({"outcome": ["target"] * 7, "blows": blows, "penetration": [1.0] * 7,
+                      "error": [""] * 7})
+    s = drivability.summarise(table)
+    assert all(float(v).is_integer() and v in blows for v in s["quantiles"].values())
+    drawn = {}
+    spec = _spec(sweep={"kind": "drive"}, grid={"tau1": [1.0]}, model={"elastic": False})
+    import matplotlib.axes
+    hist = matplotlib.axes.Axes.hist
+
+    def counting(ax, x, *args, **kwargs):
+        counts, edges, patches = hist(ax, x, *args, **kwargs)
+        drawn["n"] = int(counts.sum())
+        return counts, edges, patches
+
+    matplotlib.axes.Axes.hist = counting
+    try:
+        drivability.plot_blows(tmp_path / "h.png", spec, s)
+    finally:
+        matplotlib.axes.Axes.hist = hist
+    assert drawn["n"] == len(blows)

@@ -7,9 +7,12 @@ from pathlib import Path
 
 import pyarrow as pa
 import pyarrow.parquet as pq
+import pytest
 
+from pipeplug_harness.errors import RunFailed, UserError
+from pipeplug_harness.io import MANIFEST, OutputFolder, parquet_bytes
 from pipeplug_harness.sweep.engine import _run_stored
-from pipeplug_harness.sweep.store import ChunkFiles, ChunkStore, Written, parquet_bytes
+from pipeplug_harness.sweep.store import ChunkFiles, ChunkStore, Written
 
 
 class Tiny:
@@ -31,7 +34,7 @@ def test_a_worker_that_sees_the_folder_writes_the_clients_bytes(tmp_path):
     ack = _run_stored(Tiny(), 1, store.files)
     assert ack == Written(1, 4) and store.done(1) and not store.done(0)
     assert store.path(1).read_bytes() == parquet_bytes(Tiny().run_chunk(1))
-    assert sorted(p.name for p in store.folder.iterdir()) == ["_campaign.json",
+    assert sorted(p.name for p in store.folder.iterdir()) == [".pipeplug.lock", MANIFEST,
                                                               "part-000001.parquet"]
 
 
@@ -69,6 +72,55 @@ def test_a_writer_killed_mid_write_leaves_no_chunk(tmp_path):
     assert len(left) == 1
     assert not store.done(1) and [p.name for p in store.parts()] == ["part-000000.parquet"]
     assert pq.read_table(store.folder).equals(Tiny().run_chunk(0))
+    store.close()
     again = ChunkStore(store.folder, Tiny.digest, Tiny.n_chunks)
     assert [c for c in range(3) if not again.done(c)] == [1, 2]
     assert not list(store.folder.glob(".*.tmp"))
+
+
+def test_a_folder_of_someone_else_is_refused_and_left_as_it_was(tmp_path):
+    """A folder without a manifest holding files named like chunks: they were deleted before."""
+    folder = tmp_path / "theirs"
+    folder.mkdir()
+    (folder / "part-000000.parquet").write_bytes(b"their data")
+    (folder / "notes.txt").write_text("mine")
+    with pytest.raises(UserError, match="a new or empty folder, or one a pipeplug command wrote"):
+        ChunkStore(folder, Tiny.digest, Tiny.n_chunks, fresh=True)
+    assert (folder / "part-000000.parquet").read_bytes() == b"their data"
+    assert sorted(p.name for p in folder.iterdir() if not p.name.startswith(".")) == [
+        "notes.txt", "part-000000.parquet"]
+
+
+def test_afresh_removes_only_the_files_the_manifest_names(tmp_path):
+    store = ChunkStore(tmp_path / "out", Tiny.digest, Tiny.n_chunks)
+    _run_stored(Tiny(), 0, store.files)
+    store.close()
+    (store.folder / "part-000099.parquet").write_bytes(b"not a chunk of this campaign")
+    again = ChunkStore(store.folder, "another", 2, fresh=True)
+    assert not again.done(0)
+    assert (store.folder / "part-000099.parquet").read_bytes() == b"not a chunk of this campaign"
+    again.close()
+
+
+def test_a_second_campaign_into_a_folder_in_use_is_refused(tmp_path):
+    """Two sweeps into one folder (the second with --fresh) both ran and mixed their rows."""
+    first = ChunkStore(tmp_path / "out", Tiny.digest, Tiny.n_chunks)
+    with pytest.raises(UserError, match="no other pipeplug command is writing into"):
+        ChunkStore(tmp_path / "out", "another", 5, fresh=True)
+    first.close()
+    ChunkStore(tmp_path / "out", "another", 5, fresh=True).close()
+
+
+def test_a_writer_never_writes_into_a_folder_taken_over(tmp_path):
+    """The manifest holds another run's token (the lock did not hold, e.g. on a file system
+    without locks): neither a worker nor the client writes a chunk."""
+    store = ChunkStore(tmp_path / "out", Tiny.digest, Tiny.n_chunks)
+    store.close()
+    other = OutputFolder(tmp_path / "out", "sweep", {"campaign": "another"})
+    assert not store.files.visible()
+    data = _run_stored(Tiny(), 1, store.files)               # bytes: the worker did not write
+    assert isinstance(data, bytes) and not store.done(1)
+    with pytest.raises(RunFailed, match="another command took over"):
+        store.write(1, data)
+    assert not store.done(1)
+    other.release()

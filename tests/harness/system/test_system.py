@@ -37,7 +37,8 @@ RAM_HAMMER = {"ram_mass": 50.0, "rated_energy": 400.0, "efficiency": 0.8,
 def _read_csv(path: Path) -> dict:
     with open(path, newline="") as fh:
         rows = list(csv.reader(fh))
-    return {name: np.array([float(r[k]) for r in rows[1:]]) for k, name in enumerate(rows[0])}
+    return {name.split(" [")[0]: np.array([float(r[k]) for r in rows[1:]])
+            for k, name in enumerate(rows[0])}
 
 
 def _system_run(pipeplug_cli, route: str, path: Path, out: Path, *options) -> dict:
@@ -269,6 +270,14 @@ REFUSED = {
                                             "<= period"]),
     "no step size (SSP)": ("PipeRamming.ssp", '<osp:FixedStepAlgorithm baseStepSize="0.01" />',
                            "", ["no step size", "libcosim cannot run it"]),
+    # each of these ended in a traceback or ran for ever before
+    "stop time not a number (SSP)": ("PipeRamming.ssp", 'stopTime="0.7"', 'stopTime="nan"',
+                                     ["stop time nan s: must be a finite number"]),
+    "a source outside the archive (SSP)": ("PipeRamming.ssp", 'source="resources/Hammer.fmu"',
+                                           'source="../../x"',
+                                           ["source '../../x' points outside the archive"]),
+    "a stop time of 1e9 s (SSP)": ("PipeRamming.ssp", 'stopTime="0.7"', 'stopTime="1e9"',
+                                   ["asks for 1e+11 steps", "--limit steps="]),
 }
 
 
@@ -279,8 +288,9 @@ def test_refused_before_libcosim_sees_it(case_files, pipeplug_cli, tmp_path, cas
     route = "ssp" if name.endswith(".ssp") else "osp"
     proc = pipeplug_cli("system", f"--{route}", path, "--out", tmp_path / "out", check=False)
     assert proc.returncode == 2, proc.stdout + proc.stderr
+    assert len(proc.stderr.splitlines()) == 1 and proc.stderr.startswith("pipeplug system: ")
     for word in words:
-        assert word in proc.stdout, (word, proc.stdout)
+        assert word in proc.stderr, (word, proc.stderr)
     assert not (tmp_path / "out").exists()
 
 

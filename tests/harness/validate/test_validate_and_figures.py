@@ -4,7 +4,7 @@ import csv
 import numpy as np
 import pytest
 
-from pipeplug_harness.fmu_run import Pulse, Run, load_signal
+from pipeplug_harness.load import Load
 from pipeplug_references import closed_form as cf
 
 
@@ -68,11 +68,21 @@ def test_validate_fails_on_a_wrong_fmu(pipeplug_cli, fmu_file, tmp_path):
 
 
 def test_load_signal_puts_every_edge_on_a_duplicated_stamp():
-    run = Run(pulses=[Pulse(0.01, 0.0123, 5.0), Pulse(0.05, 0.01, -2.0)], stop_time=0.1)
-    sig = load_signal(run)
-    for edge in [e for p in run.pulses for e in (p.start, p.end)]:
+    pulses = [(0.01, 0.0123, 5.0), (0.05, 0.01, -2.0)]
+    sig = Load.from_pulses(pulses).signal(0.1)
+    for edge in [e for s, d, _ in pulses for e in (s, s + d)]:
         assert np.count_nonzero(sig["time"] == edge) == 2
     assert sig["Q"][sig["time"] < 0.01].max() == 0.0
+    load = Load.from_pulses(pulses)
+    assert [load.at(t) for t in (0.0, 0.01, 0.015, 0.0223, 0.05, 0.06, 0.1)] == [
+        0.0, 5.0, 5.0, 0.0, -2.0, -2.0, 0.0]
+
+
+def test_an_unknown_figure_is_a_one_line_mistake(pipeplug_cli, fmu_file):
+    """--only 8 ended in a traceback (KeyError)."""
+    proc = pipeplug_cli("figures", "--fmu", fmu_file, "--only", "8", check=False)
+    assert proc.returncode == 2 and len(proc.stderr.splitlines()) == 1
+    assert "invalid choice: '8'" in proc.stderr and "6a" in proc.stderr
 
 
 def test_figures_draws_pngs(pipeplug_cli, fmu_file, tmp_path):

@@ -1,0 +1,111 @@
+"""Where a command finds the FMUs it needs, from any folder.
+
+``--fmu PATH`` names one. Without it the command takes the FMUs built from the installed code:
+``<cache>/fmu/<digest>/PipePlug.fmu`` (with Hammer.fmu and the system files beside it), where
+``<digest>`` is a digest of the content of everything a build ships (the core, the adapter,
+their versions) and ``<cache>`` is ``PIPEPLUG_CACHE_DIR`` or the user's cache folder
+(``~/.cache/pipeplug``). When that folder is missing the FMUs are built into it once (about a
+minute; ``python -m pipeplug_fmu build`` in a subprocess), into a temporary folder first, which
+is renamed into place whole: two commands building at once never see half a build.
+"""
+from __future__ import annotations
+
+import hashlib
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+from pipeplug_harness.errors import RunFailed, UserError
+
+__all__ = ["cache_root", "build_digest", "cached_build", "find_fmu", "BUILD_FILES"]
+
+#: the files of a build, PipePlug.fmu first
+BUILD_FILES = ("PipePlug.fmu", "Hammer.fmu", "PipeRamming.ssp", "OspSystemStructure.xml")
+_SHIPPED = (".py", ".c")
+
+
+def cache_root() -> Path:
+    """``PIPEPLUG_CACHE_DIR``, else the user's cache folder ``.../pipeplug``."""
+    root = os.environ.get("PIPEPLUG_CACHE_DIR")
+    if root:
+        return Path(root)
+    if sys.platform.startswith("win"):
+        base = os.environ.get("LOCALAPPDATA") or Path.home() / "AppData" / "Local"
+    elif sys.platform == "darwin":
+        base = Path.home() / "Library" / "Caches"
+    else:
+        base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
+    return Path(base) / "pipeplug"
+
+
+def build_digest() -> str:
+    """A digest of the content of everything a build ships: the core's and the adapter's
+    sources, and the versions of pythonfmu and Python it is built with."""
+    import pipeplug
+    import pipeplug_fmu
+    h = hashlib.sha256()
+    for package in (pipeplug, pipeplug_fmu):
+        root = Path(package.__file__).resolve().parent
+        for path in sorted(p for p in root.rglob("*") if p.suffix in _SHIPPED
+                           and "__pycache__" not in p.parts):
+            h.update(str(path.relative_to(root.parent)).encode())
+            h.update(path.read_bytes())
+    try:
+        from importlib.metadata import version
+        h.update(version("pythonfmu").encode())
+    except Exception:                          # not installed: the build will say so
+        pass
+    h.update(f"{sys.version_info[:2]}".encode())
+    return h.hexdigest()[:16]
+
+
+def cached_build(build=None) -> Path:
+    """PipePlug.fmu of the installed code in the per-user cache, built there when missing
+    (``build(folder)`` writes the build into ``folder``; default: the adapter's build command in
+    a subprocess)."""
+    folder = cache_root() / "fmu" / build_digest()
+    fmu = folder / BUILD_FILES[0]
+    if fmu.is_file():
+        return fmu
+    folder.parent.mkdir(parents=True, exist_ok=True)
+    work = Path(tempfile.mkdtemp(prefix=".building-", dir=folder.parent))
+    try:
+        print(f"pipeplug: building the FMUs of this installation into {folder} (once)",
+              file=sys.stderr, flush=True)
+        (build or _build)(work)
+        try:
+            os.rename(work, folder)
+        except OSError:                        # another command finished the same build first
+            if not fmu.is_file():
+                raise
+    finally:
+        shutil.rmtree(work, ignore_errors=True)
+    return fmu
+
+
+def _build(folder: Path) -> None:
+    proc = subprocess.run([sys.executable, "-m", "pipeplug_fmu", "build", "--dest",
+                           str(folder / BUILD_FILES[0])], capture_output=True, text=True,
+                          check=False)
+    if proc.returncode:
+        last = (proc.stderr.strip().splitlines() or ["no message"])[-1]
+        raise RunFailed(f"building the FMUs failed (python -m pipeplug_fmu build): {last}")
+
+
+def find_fmu(given=None, name: str = "PipePlug.fmu") -> Path:
+    """The FMU file ``name`` to use: ``given`` (``--fmu``), else the cached build's.
+
+    Raises
+    ------
+    UserError
+        When ``given`` does not exist.
+    """
+    if given is not None:
+        path = Path(given)
+        if not path.exists():
+            raise UserError("no such FMU file or folder", file=path)
+        return path
+    return cached_build().with_name(name)

@@ -1,0 +1,166 @@
+"""Output folders that never lose data.
+
+A command writes only into a folder that is new, empty, or holds its manifest ``_pipeplug.json``
+(a folder an earlier ``pipeplug`` command wrote): a non-empty folder without one is refused, so a
+user's own files are never overwritten or removed. The manifest names the files the commands
+wrote there (and a campaign's chunk files by their rule); only those are ever replaced or
+removed. While a command runs it holds a lock on the folder (``.pipeplug.lock``, an advisory
+lock the system releases when the process ends, however it ends), so a second command into the
+same folder is refused until the first is done; and before each write a writer checks that the
+manifest still holds its own run's token, so a run whose folder was taken over stops instead of
+mixing its files with another's.
+"""
+from __future__ import annotations
+
+import json
+import os
+import uuid
+from pathlib import Path
+
+from pipeplug_harness.errors import RunFailed, UserError
+
+__all__ = ["OutputFolder", "MANIFEST", "LOCK"]
+
+MANIFEST = "_pipeplug.json"
+LOCK = ".pipeplug.lock"
+_OWN = (MANIFEST, LOCK)
+
+
+def _prepared(path: Path) -> Path:
+    """``path`` as a folder this process can write into (created when missing)."""
+    if path.exists() and not path.is_dir():
+        raise UserError(key="--out", value=str(path), allowed="a folder (this is a file)")
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise UserError(key="--out", value=str(path),
+                        allowed=f"a folder that can be created ({exc.strerror or exc})") from None
+    if not os.access(path, os.W_OK | os.X_OK):
+        raise UserError(key="--out", value=str(path),
+                        allowed="a folder this user can write into (it is read-only)")
+    return path
+
+
+class OutputFolder:
+    """The output folder of one command run (see the module docstring).
+
+    Parameters
+    ----------
+    path : path
+        The folder (created when missing).
+    command : str
+        What writes there (e.g. ``"scene"``), recorded in the manifest.
+    about : dict, optional
+        More to record in the manifest (e.g. a campaign's digest).
+
+    Raises
+    ------
+    UserError
+        The path is a file, cannot be created or written, holds files of someone else, or
+        another command holds the folder.
+    """
+
+    def __init__(self, path, command: str, about: dict | None = None):
+        self.path = _prepared(Path(path)).resolve()
+        self.token = uuid.uuid4().hex
+        self._lock = self._locked()
+        held = self.manifest()
+        if held is None and any(p.name not in _OWN for p in self.path.iterdir()):
+            self.release()
+            raise UserError(key="--out", value=str(path),
+                            allowed=f"a new or empty folder, or one a pipeplug command wrote "
+                                    f"(with {MANIFEST}); this one holds other files")
+        self.previous = held or {}
+        self.data = {"written_by": "pipeplug", "command": command, "run": self.token,
+                     "files": list(self.previous.get("files", [])), **(about or {})}
+        self._save()
+
+    # Ownership ---------------------------------------------------------------------------------
+    def _locked(self):
+        """An advisory lock on the folder, held until :meth:`release` or the process ends."""
+        fh = open(self.path / LOCK, "a+")
+        try:
+            import fcntl
+        except ImportError:                      # pragma: no cover - not POSIX: no lock
+            return fh
+        try:
+            fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except OSError:
+            fh.close()
+            raise UserError(key="--out", value=str(self.path),
+                            allowed="a folder no other pipeplug command is writing into (one is "
+                                    "running there now: wait for it, or choose another folder)"
+                            ) from None
+        return fh
+
+    def release(self) -> None:
+        """Release the folder's lock."""
+        if self._lock is not None:
+            self._lock.close()
+            self._lock = None
+
+    def manifest(self) -> dict | None:
+        """The folder's manifest (None without one)."""
+        try:
+            data = json.loads((self.path / MANIFEST).read_text())
+        except FileNotFoundError:
+            return None
+        except (OSError, ValueError) as exc:
+            raise UserError(f"{MANIFEST} cannot be read ({exc}): not a folder a pipeplug command "
+                            f"wrote", file=self.path) from None
+        if not isinstance(data, dict) or data.get("written_by") != "pipeplug":
+            raise UserError(f"{MANIFEST} was not written by pipeplug", file=self.path)
+        return data
+
+    def still_mine(self) -> None:
+        """Raise :class:`RunFailed` unless the manifest still holds this run's token."""
+        try:
+            held = json.loads((self.path / MANIFEST).read_text()).get("run")
+        except (OSError, ValueError):
+            held = None
+        if held != self.token:
+            raise RunFailed(f"{self.path}: another command took over this output folder; this "
+                            f"run stops without writing there")
+
+    def _save(self) -> None:
+        tmp = self.path / f".{MANIFEST}.{self.token}.tmp"
+        tmp.write_text(json.dumps(self.data, indent=1, default=str))
+        os.replace(tmp, self.path / MANIFEST)
+
+    # Files -------------------------------------------------------------------------------------
+    def file(self, name: str) -> Path:
+        """The path to write the file ``name`` at, recorded in the manifest first (after
+        checking the folder is still this run's)."""
+        self.still_mine()
+        if name not in self.data["files"]:
+            self.data["files"].append(name)
+            self._save()
+        return self.path / name
+
+    def owned(self) -> list[Path]:
+        """The files the manifest names that exist."""
+        return [self.path / n for n in self.data["files"] if (self.path / n).exists()]
+
+    def remove_owned(self, names=None) -> None:
+        """Remove the files of the manifest (or those of ``names`` it holds); never others."""
+        self.still_mine()
+        keep = []
+        for name in self.data["files"]:
+            if names is None or name in names:
+                (self.path / name).unlink(missing_ok=True)
+            else:
+                keep.append(name)
+        self.data["files"] = keep
+        self._save()
+
+    def update(self, **about) -> None:
+        """Record more in the manifest."""
+        self.still_mine()
+        self.data.update(about)
+        self._save()
+
+    def __enter__(self) -> OutputFolder:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.release()
