@@ -14,7 +14,7 @@ the other cases go on.
   ``modes``: the contact modes the run went through, e.g. ``"(1,1),(1,-1),(0,-1),(0,0)"``
   (``(pipe_mode, plug_mode)`` as in the outputs).
 * drive: the whole drive of :mod:`pipeplug_harness.drive.run` on a core model
-  (:class:`~pipeplug_harness.drive.session.CoreSession`). Row: outcome, blows, penetration, ...
+  (:class:`~pipeplug_harness.session.CoreSession`). Row: outcome, blows, penetration, ...
 """
 from __future__ import annotations
 
