@@ -89,6 +89,13 @@ class Session(Protocol):
 
     steps: int       #: communication steps taken
 
+    def strike(self, velocity: float) -> None:
+        """Start a strike of the ram [m/s] with the next step: the input ``strikes`` rises
+        by one, ``v_strike`` is ``velocity``."""
+        self._strikes += 1
+        self._set("v_strike", velocity)
+        self._set("strikes", self._strikes)
+
     def step(self, t: float, h: float, q: float) -> Outputs:
         """Hold Q = ``q`` [N] from ``t`` to ``t + h`` [s], then read the outputs."""
 
@@ -141,12 +148,20 @@ class FmuSession:
             self._set(name, value)
         self._fmu.exitInitializationMode()
         self.steps = 0
+        self._strikes = 0
 
     def _set(self, name: str, value) -> None:
         """Set one variable with the setter of its FMI type."""
         v = self._vars[name]
         cast = {"Real": float, "Integer": int, "Boolean": bool, "String": str}[v.type]
         getattr(self._fmu, "set" + v.type)([v.valueReference], [cast(value)])
+
+    def strike(self, velocity: float) -> None:
+        """Start a strike of the ram [m/s] with the next step: the input ``strikes`` rises
+        by one, ``v_strike`` is ``velocity``."""
+        self._strikes += 1
+        self._set("v_strike", velocity)
+        self._set("strikes", self._strikes)
 
     def step(self, t: float, h: float, q: float) -> Outputs:
         """Hold Q = ``q`` [N] over the communication step from ``t`` to ``t + h`` [s], then
@@ -188,6 +203,13 @@ class CoreSession:
         params, options = split_start_values(start_values)
         self.model = (builder or build_model)(params, options)
         self.steps = 0
+
+    def strike(self, velocity: float) -> None:
+        """Start a strike of the ram [m/s] with the next step: the input ``strikes`` rises
+        by one, ``v_strike`` is ``velocity``."""
+        self._strikes += 1
+        self._set("v_strike", velocity)
+        self._set("strikes", self._strikes)
 
     def step(self, t: float, h: float, q: float) -> Outputs:
         """Hold Q = ``q`` [N] from ``t`` to ``t + h`` [s] (as the FMU's doStep: from the host's

@@ -36,7 +36,8 @@ from pipeplug_harness import paper
 from pipeplug_harness.load import Load
 
 __all__ = ["Case", "Plan", "generate", "edges_of", "load_at", "loads_on", "host_calls", "calls_of",
-           "case_to_json", "case_from_json", "RIGID_PARAMETERS", "GRIDS"]
+           "case_to_json", "case_from_json", "RIGID_PARAMETERS", "GRIDS",
+           "strikes_on_calls"]
 
 #: the parameters of the rigid models (the reference's names, the contract's names)
 RIGID_PARAMETERS = paper.RIGID_PARAMETERS
@@ -218,6 +219,20 @@ def calls_of(edges, stop: float, h: float, style: str) -> list[tuple[float, floa
     else:
         raise ValueError(f"host style {style!r}; allowed: 't+=h', 't=k*h'")
     return calls
+
+
+def strikes_on_calls(calls, strikes) -> dict[int, float]:
+    """Which of an FMU host's ``calls`` starts each strike ``(time [s], velocity [m/s])``:
+    call index -> velocity; a call starting within 1e-9 max(1, |t|) of the strike's time (a
+    host adding up its steps reaches an edge only to round-off)."""
+    starts = np.array([t for t, _ in calls])
+    found = {}
+    for time, velocity in strikes:
+        i = int(np.argmin(np.abs(starts - time)))
+        if abs(starts[i] - time) > 1e-9 * max(1.0, abs(time)):
+            raise ValueError(f"no call starts at the strike's time {time!r} s")
+        found[i] = float(velocity)
+    return found
 
 
 def case_to_json(case: Case) -> dict:

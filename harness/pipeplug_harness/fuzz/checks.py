@@ -54,6 +54,14 @@ CHECKS: dict[str, Check] = {
                                   "P1 tau1 Lc(u)) / (that limit + |Q| + F2)"),
     "at rest": Check(0.0, "points where at_rest holds but a velocity is not 0 or a step "
                           "under Q = 0 changes an output"),
+    "ram ledger": Check(1e-12, "model I with a ram: |W_input + W_ram - E_kinetic - E_strain - "
+                               "W_friction - W_cushion - W_numerical| and |E_kinetic - the "
+                               "kinetic energy of pipe, plug and ram from their masses| / "
+                               "largest work or energy"),
+    "ram energies": Check(0.0, "model I with a ram: points with a negative E_kinetic or "
+                               "E_strain, W_cushion below -1e-12 of the largest work, "
+                               "W_numerical != 0, W_friction > W_input + W_ram, or a "
+                               "non-finite output"),
     "ledger": Check(1.0, "model III: |W_input - E_kinetic - E_strain - W_friction - "
                          "W_numerical| / ((1e-12 + 2.2e-16 n) x largest work or energy of the "
                          "run), n the internal steps so far"),

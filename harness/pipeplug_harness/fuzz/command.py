@@ -32,7 +32,8 @@ __all__ = ["add_arguments", "main", "replay", "fit_fd_constant"]
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--model", choices=tuple(MODELS), default="rigid",
                         help="rigid: models I and II (exact solver, reference, fd); elastic: "
-                             "model III (default: %(default)s)")
+                             "model III (with rams); ram: model I with a ram (exact solver, "
+                             "reference with a ram, FMU strikes) (default: %(default)s)")
     parser.add_argument("--cases", type=int, default=1000, help="number of cases (%(default)s)")
     parser.add_argument("--seed", type=int, default=0, help="seed of the run (%(default)s)")
     parser.add_argument("--start", type=int, default=0,

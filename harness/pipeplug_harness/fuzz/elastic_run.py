@@ -18,7 +18,7 @@ from pipeplug.elastic.model import ElasticModel
 
 from . import checks as ck
 from . import elastic_checks as ek
-from .cases import calls_of
+from .cases import calls_of, strikes_on_calls
 from .elastic_cases import GRIDS, ElasticCase, internal_step, plug_simulated
 from .run import HOST_STYLES, CaseResult, _guarded
 from .runners import drop_fmu_host, fmu_host
@@ -106,13 +106,17 @@ def _fmu(case: ElasticCase, setup, style: str, result: CaseResult) -> None:
     calls = calls_of(case.edges, case.stop, case.host_h, style)
     loads = case.load_at([t for t, _ in calls])
     try:
-        rows = fmu_host(setup.fmu).run_with(case.params, case.options, loads, calls)
+        rows = fmu_host(setup.fmu).run_with(case.params, case.options, loads, calls,
+                                            case.strikes)
     except Exception:
         drop_fmu_host(setup.fmu)        # the next case gets a fresh instance
         raise
     model = ELASTIC_PATHS["compiled"](case)
+    strikes = strikes_on_calls(calls, case.strikes)
     core = np.empty_like(rows)
     for i, (t, h) in enumerate(calls):
+        if i in strikes:
+            model.strike(strikes[i])
         model.advance_to(float(loads[i]), t + h, t)
         core[i] = model.outputs()
     result.put("fmu", f"fmu {style}", ck.same_outputs_error(rows, core))

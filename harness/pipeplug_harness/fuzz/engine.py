@@ -15,13 +15,16 @@ from dataclasses import dataclass
 from .cases import Plan, generate
 from .elastic_cases import generate_elastic
 from .elastic_run import run_elastic_case
+from .ram_cases import generate_ram
+from .ram_run import run_ram_case
 from .report import Summary, save_failure
 from .run import CaseResult, Setup, run_case
 
 __all__ = ["fuzz", "run_indices", "make_case", "run_one", "FuzzCampaign", "MODELS"]
 
 #: the fuzz's model families: --model name -> case generator and runner
-MODELS = {"rigid": (generate, run_case), "elastic": (generate_elastic, run_elastic_case)}
+MODELS = {"rigid": (generate, run_case), "elastic": (generate_elastic, run_elastic_case),
+          "ram": (generate_ram, run_ram_case)}
 
 
 def make_case(seed: int, index: int, plan: Plan):
@@ -31,8 +34,7 @@ def make_case(seed: int, index: int, plan: Plan):
 
 def run_one(case, setup: Setup) -> CaseResult:
     """Run a case of either family with its own runner."""
-    runner = run_elastic_case if getattr(case, "kind", "rigid") == "elastic" else run_case
-    return runner(case, setup)
+    return MODELS[getattr(case, "kind", "rigid")][1](case, setup)
 
 #: cases per task on a cluster: a task costs the engine ~10 ms (scheduler round trip), a case
 #: a few ms, so a chunk of 100 keeps that under a few per cent

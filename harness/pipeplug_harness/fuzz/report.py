@@ -15,6 +15,7 @@ from pipeplug_harness.errors import UserError
 from .cases import Case, case_from_json, case_to_json
 from .checks import CHECKS
 from .elastic_cases import elastic_from_json, elastic_to_json
+from .ram_cases import ram_from_json, ram_to_json
 from .run import CaseResult
 
 __all__ = ["Summary", "save_failure", "load_failure"]
@@ -119,7 +120,7 @@ def save_failure(result: CaseResult, case: Case, folder, paths: tuple) -> Path:
         "errors": [{"check": c, "subject": s, "message": m}
                    for (c, s), m in result.errors.items()],
         "replay": f"pipeplug fuzz --replay {path.name}",
-        "case": elastic_to_json(case) if _elastic(case) else case_to_json(case),
+        "case": _TO_JSON[getattr(case, "kind", "rigid")](case),
     }
     path.write_text(json.dumps(data, indent=1, default=_plain))
     return path
@@ -138,12 +139,12 @@ def load_failure(path: str | Path) -> tuple[Case, dict]:
     try:
         data = json.loads(path.read_text())
         case = data.get("case", data)
-        return (elastic_from_json(case) if case.get("kind") == "elastic"
-                else case_from_json(case)), data
+        return _FROM_JSON[case.get("kind", "rigid")](case), data
     except (OSError, ValueError, TypeError, KeyError, AttributeError, RecursionError) as exc:
         raise UserError(f"not a fuzz case file: {type(exc).__name__}: {exc}", file=path) \
             from None
 
 
-def _elastic(case) -> bool:
-    return getattr(case, "kind", "rigid") == "elastic"
+#: case kind -> its JSON writer and reader
+_TO_JSON = {"rigid": case_to_json, "elastic": elastic_to_json, "ram": ram_to_json}
+_FROM_JSON = {"rigid": case_from_json, "elastic": elastic_from_json, "ram": ram_from_json}

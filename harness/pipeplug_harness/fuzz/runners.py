@@ -14,7 +14,7 @@ import numpy as np
 
 from pipeplug import OUTPUT_NAMES
 
-from .cases import Case, loads_on
+from .cases import Case, loads_on, strikes_on_calls
 
 __all__ = ["run_grid", "run_calls", "run_reference", "fmu_host", "drop_fmu_host", "COLUMN"]
 
@@ -101,12 +101,17 @@ class FmuHost:
         loads = loads_on(case.segments, [t for t, _ in calls])
         return self.run_with(case.params, case.options, loads, calls)
 
-    def run_with(self, params: dict, options: dict, loads, calls) -> np.ndarray:
+    def run_with(self, params: dict, options: dict, loads, calls, strikes=()) -> np.ndarray:
         """Reset, set ``params`` and ``options`` (by contract name), make the host's ``calls``
-        with ``loads[i]`` held over call ``i``; the outputs after each."""
+        with ``loads[i]`` held over call ``i`` and each strike ``(time [s], velocity [m/s])``
+        of ``strikes`` started by the call from its time (:func:`~.cases.strikes_on_calls`);
+        the outputs after each."""
         self.session.restart({**params, **options})
+        at = strikes_on_calls(calls, strikes)
         rows = np.empty((len(calls), len(OUTPUT_NAMES)))
         for i, (t, h) in enumerate(calls):
+            if i in at:
+                self.session.strike(at[i])
             rows[i] = self.session.step(t, h, float(loads[i]))
         return rows
 

@@ -1,0 +1,98 @@
+"""The fuzz of model I with a ram: its cases, a fixed-seed share of the campaign through the
+core, the ODE reference with a ram and the FMU's strikes, and planted defects it must find."""
+from __future__ import annotations
+
+import json
+import re
+
+import pytest
+
+from pipeplug import build_model
+from pipeplug_harness.fuzz.cases import Plan
+from pipeplug_harness.fuzz.engine import fuzz
+from pipeplug_harness.fuzz.paths import CORE_PATHS
+from pipeplug_harness.fuzz.ram_cases import generate_ram, ram_from_json, ram_to_json
+from pipeplug_harness.fuzz.report import load_failure, save_failure
+from pipeplug_harness.fuzz.run import CaseResult, Setup
+
+PLAN = Plan(reference=3, fmu=0, fd=0, model="ram")
+
+
+def test_a_case_depends_on_seed_and_index_only_round_trips_and_replays(tmp_path):
+    a = generate_ram(7, 31, PLAN)
+    assert generate_ram(7, 31, PLAN) == a
+    assert generate_ram(8, 31, PLAN) != a and generate_ram(7, 32, PLAN) != a
+    for i in range(10):
+        case = generate_ram(3, i, PLAN)
+        assert ram_from_json(json.loads(json.dumps(ram_to_json(case)))) == case
+        assert not case.growth and case.params["ram_mass"] > 0.0 and case.strikes
+        for grid in case.grids.values():           # every grid holds every strike
+            assert {t for t, _ in case.strikes} <= set(grid)
+    result = CaseResult(a.seed, a.index, a.model, a.checks)
+    path = save_failure(result, a, tmp_path, ("compiled",))
+    assert load_failure(path)[0] == a
+
+
+def _count(pattern: str, text: str) -> int:
+    match = re.search(pattern, text)
+    assert match, text
+    return int(match.group(1))
+
+
+def test_fuzz_finds_no_failure(pipeplug_cli, fmu_dir):
+    cases = 60
+    proc = pipeplug_cli("fuzz", "--model", "ram", "--seed", 301, "--cases", cases,
+                        "--reference-every", 3, "--fmu-every", 10, "--fmu", fmu_dir,
+                        "--out", "out", check=False)
+    text = proc.stdout
+    print(text)
+    assert proc.returncode == 0, text + proc.stderr
+    assert _count(r"cases: (\d+)", text) == cases
+    assert _count(r"failing cases: (\d+)", text) == 0
+    for check in ("ram ledger [compiled]", "ram energies [compiled]", "grid [compiled]",
+                  "friction work [compiled]", "reference [python]", "paths [compiled]",
+                  "fmu [fmu t+=h]", "fmu [fmu t=k*h]"):
+        assert re.search(re.escape(check) + r"\s+\d+\s+0\s", text), check
+
+
+class _SoftStrike:
+    """A planted defect: every strike at 0.999 of its velocity."""
+
+    def __init__(self, model):
+        self._model = model
+
+    def strike(self, velocity):
+        self._model.strike(0.999 * velocity)
+
+    def __getattr__(self, name):
+        return getattr(self._model, name)
+
+
+def test_the_fuzz_finds_a_strike_at_the_wrong_speed(monkeypatch):
+    """Strikes 0.1 % slow: the reference finds every case it compares."""
+    monkeypatch.setitem(CORE_PATHS, "python",
+                        lambda params, options: _SoftStrike(build_model(params, options,
+                                                                        compiled=False)))
+    summary, _ = fuzz(5, range(6), Plan(reference=1, fmu=0, fd=0, model="ram"),
+                      Setup(paths=("python",)), progress=None)
+    assert summary.rows[("reference", "python")][1] >= 5
+
+
+def test_the_fuzz_finds_a_ledger_that_does_not_close(monkeypatch):
+    """The cushion's loss not booked: the ledger breaks wherever a cushion loses energy."""
+    class _NoLoss:
+        def __init__(self, model):
+            self._model = model
+
+        def outputs(self):
+            return self._model.outputs()._replace(W_cushion=0.0)
+
+        def __getattr__(self, name):
+            return getattr(self._model, name)
+
+    monkeypatch.setitem(CORE_PATHS, "python",
+                        lambda params, options: _NoLoss(build_model(params, options,
+                                                                    compiled=False)))
+    summary, _ = fuzz(5, range(12), Plan(reference=0, fmu=0, fd=0, model="ram"),
+                      Setup(paths=("python",)), progress=None)
+    assert summary.rows[("ram ledger", "python")][1] >= 4
