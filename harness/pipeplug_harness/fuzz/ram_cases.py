@@ -25,6 +25,7 @@ __all__ = ["RamCase", "generate_ram", "ram_to_json", "ram_from_json", "RAM_PARAM
 
 #: the ram's parameters (the contract's names)
 RAM_PARAMETERS = ("ram_mass", "cushion_stiffness", "cushion_restitution")
+_PLAN = Plan(model="ram")
 
 
 @dataclass(frozen=True)
@@ -56,7 +57,7 @@ class RamCase:
         return sorted(set(edges_of(self.base.segments)) | {t for t, _ in self.strikes})
 
 
-def generate_ram(seed: int, index: int, plan: Plan = Plan(model="ram")) -> RamCase:
+def generate_ram(seed: int, index: int, plan: Plan = _PLAN) -> RamCase:
     """Case ``index`` of the ram fuzz run ``seed`` (module docstring)."""
     base = generate(seed, index, plan)
     rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index, 7)))

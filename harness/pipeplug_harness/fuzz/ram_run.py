@@ -72,7 +72,7 @@ def _advance(builder, case: RamCase, starts, ends, strikes: dict) -> np.ndarray:
 def _grids(case: RamCase, builder, path: str, body, result: CaseResult) -> list:
     """Every grid on one path: the invariants on every point, the grids at the samples."""
     at_samples, runs = [], []
-    for name, grid in case.grids.items():
+    for grid in case.grids.values():
         grid = np.asarray(grid)
         at = {i: v for i, t in enumerate(grid[:-1]) for s, v in case.strikes if t == s}
         rows = _advance(builder, case, grid[:-1], grid[1:], at)

@@ -5,8 +5,6 @@ from __future__ import annotations
 import json
 import re
 
-import pytest
-
 from pipeplug import build_model
 from pipeplug_harness.fuzz.cases import Plan
 from pipeplug_harness.fuzz.engine import fuzz
