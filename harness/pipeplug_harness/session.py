@@ -85,16 +85,12 @@ def split_start_values(start_values: dict) -> tuple[dict, dict]:
 
 
 class Session(Protocol):
-    """What a run needs of an instance: steps under a held Q, their count, close."""
+    """What a run needs of an instance: steps under a held Q, strikes, their count, close."""
 
     steps: int       #: communication steps taken
 
     def strike(self, velocity: float) -> None:
-        """Start a strike of the ram [m/s] with the next step: the input ``strikes`` rises
-        by one, ``v_strike`` is ``velocity``."""
-        self._strikes += 1
-        self._set("v_strike", velocity)
-        self._set("strikes", self._strikes)
+        """Start a strike of the ram [m/s] with the next step."""
 
     def step(self, t: float, h: float, q: float) -> Outputs:
         """Hold Q = ``q`` [N] from ``t`` to ``t + h`` [s], then read the outputs."""
@@ -205,11 +201,9 @@ class CoreSession:
         self.steps = 0
 
     def strike(self, velocity: float) -> None:
-        """Start a strike of the ram [m/s] with the next step: the input ``strikes`` rises
-        by one, ``v_strike`` is ``velocity``."""
-        self._strikes += 1
-        self._set("v_strike", velocity)
-        self._set("strikes", self._strikes)
+        """Start a strike of the ram [m/s] with the next step (as the FMU's input
+        ``strikes`` rising)."""
+        self.model.strike(velocity)
 
     def step(self, t: float, h: float, q: float) -> Outputs:
         """Hold Q = ``q`` [N] from ``t`` to ``t + h`` [s] (as the FMU's doStep: from the host's
