@@ -12,7 +12,8 @@ After each blow (its whole window, to the next blow's start):
   their impulse so far, plus, in the elastic model, a wave of ``2 Q / Z1`` per blow so far (a
   blow's wave doubles at a free end; a train in step with the round trip piles them up) and the
   waves of both frictions ``2 (F1 + F2) / Z1``, all 1.3 times for the elastic scheme's
-  overshoot of a front below Courant 1;
+  overshoot of a front below Courant 1; a hammer's strike at v adds ``2 m v / M1`` and, in the
+  elastic model, ``4 v``;
 * the front end has not gone back past the start by more than the pipe's elastic shortening
   under the blow, ``Q L1 / (E1 S1)`` (0 in the rigid models): blows push.
 
@@ -50,26 +51,39 @@ class Limits:
     rebound: float         #: the largest elastic shortening of the pipe under a blow [m]
     h: float               #: the model's internal step [s] (0: none, the exact solver)
 
+    strike: float = 0.0    #: the ram's velocity at a strike [m/s] (0: no hammer)
+    ram_mass: float = 0.0  #: [kg]
+
     @classmethod
     def of(cls, spec) -> Limits:
         p = spec.params()
         plug = p.tau2 > 0.0 and p.L2 > 0.0
+        v = spec.hammer.v_strike if spec.hammer is not None else 0.0
         if spec.elastic:
             from pipeplug.elastic.grid import build_grid
-            Z1, rebound, h = p.S1 * math.sqrt(p.E1 * p.rho1), spec.amplitude * p.L1 / (
-                p.E1 * p.S1), build_grid(p).h_max
+            Z1, h = p.S1 * math.sqrt(p.E1 * p.rho1), build_grid(p).h_max
+            # the head's largest force: the blow's, or twice the ram's Z1 v (the head never
+            # outruns the ram, and its wave doubles at the far end)
+            rebound = max(spec.amplitude, 2.0 * Z1 * v) * p.L1 / (p.E1 * p.S1)
         else:
             h = p.dt if spec.start_values.get("solver") == "fd" else 0.0
             Z1, rebound = math.inf, 0.0
         return cls(p.M1, Z1, p.P1 * p.L1 * p.tau1, p.F2 if plug else 0.0, spec.amplitude,
-                   spec.duration, rebound, h)
+                   spec.duration, rebound, h, v, p.ram_mass)
 
     def velocity_bound(self, blows: int) -> float:
         """The largest pipe velocity [m/s] ``blows`` blows can give (module docstring), with
-        the overshoot of the elastic scheme's dispersion below Courant 1 (:data:`DISPERSION`)."""
+        the overshoot of the elastic scheme's dispersion below Courant 1 (:data:`DISPERSION`).
+        A strike at v gives at most the impulse 2 m v (the ram cannot leave faster than it
+        came) and, in the elastic model, waves of 4 v (the head never outruns the ram: a wave
+        of v at most, doubled at an end and again by the ram's return)."""
+        elastic = math.isfinite(self.Z1)
         waves = 2.0 * (blows * self.amplitude + self.F1 + self.F2) / self.Z1
-        spread = DISPERSION if math.isfinite(self.Z1) else 1.0
-        return (blows * self.amplitude * self.duration / self.M1 + waves) * spread * (1.0 + _SLACK)
+        struck = blows * self.strike * (2.0 * self.ram_mass / self.M1 + (4.0 if elastic
+                                                                          else 0.0))
+        spread = DISPERSION if elastic else 1.0
+        return ((blows * self.amplitude * self.duration / self.M1 + waves) * spread
+                + struck) * (1.0 + _SLACK)
 
 
 def check_blow(limits: Limits, blow, out, t: float, steps: int) -> None:

@@ -8,6 +8,11 @@ a ``[drive]`` section::
                     model II, penetration 0, no outer contact)
     [blows]         amplitude [N] > 0, duration [s], period [s] > duration, or rate (no count,
                     no start: blow k starts at k * period)
+    [hammer]        instead of [blows], the hammer by its ram: rated_energy [J], efficiency
+                    (default 1), ram_mass [kg], rate [1/s] ("200 /min"), cushion_stiffness
+                    [N/m] (default 0: a direct strike), cushion_restitution (default 1);
+                    strike k starts at k / rate with the ram at v = sqrt(2 efficiency
+                    rated_energy / ram_mass) (PipePlug's ram; Q = 0)
     [model]         elastic = true | false | "auto"; solver dt dx courant (no x_monitor: the
                     drive monitors the pipe's front end, whose displacement is the penetration);
                     without dx, the elastic model takes the coarsest grid of at least
@@ -20,6 +25,8 @@ a ``[drive]`` section::
     refusal_count = 10      #     refusal_count blows that together advance the pipe less
     refusal_length = 0.025  #     than refusal_length [m] (default: 10 blows per 25 mm)
     max_blows = 100000      # stop after this many blows
+    yield_stress = 2.41e8   # [Pa] the pipe's yield: the summary states the largest stress
+                            #     against it (optional)
     step = 1e-4             # [s] communication step while the blow acts and just after it
                             #     (default: duration / 10; elastic: rounded down to whole
                             #     internal steps, see pipeplug_harness.drive.run)
@@ -33,13 +40,14 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from pathlib import Path
+from typing import NamedTuple
 
 from pipeplug_harness import spec as files
 from pipeplug_harness.errors import UserError
 from pipeplug_harness.limits import Limits
 from pipeplug_harness.session import split_start_values
 
-__all__ = ["DriveSpec", "DEFAULT_REFUSAL", "GRID_CELLS", "load_drive", "drive_spec",
+__all__ = ["DriveSpec", "Hammer", "DEFAULT_REFUSAL", "GRID_CELLS", "load_drive", "drive_spec",
            "check_with_core", "grid_for"]
 
 #: The default refusal of pile-driving practice: 10 blows per 25 mm.
@@ -47,6 +55,16 @@ DEFAULT_REFUSAL = (10, 0.025)
 #: Without dx: at least this many cells along the pipe and along the blow's wave c1 td.
 GRID_CELLS = 20
 _GRID_TRIES = 10_000             # cell counts tried for one that fits L2 too
+
+
+@dataclass(frozen=True)
+class Hammer:
+    """A drive's hammer by its ram (SI): the strike's velocity and what it comes from."""
+
+    rated_energy: float      #: [J]
+    efficiency: float        #: [1]
+    ram_mass: float          #: [kg]
+    v_strike: float          #: sqrt(2 efficiency rated_energy / ram_mass) [m/s]
 
 
 @dataclass(frozen=True)
@@ -69,6 +87,8 @@ class DriveSpec:
     step: float              #: [s]
     reason: str              #: why the model is (not) elastic
     grid: str = ""           #: the elastic model's grid and where dx came from
+    hammer: Hammer | None = None   #: the blows are strikes of this ram (amplitude 0)
+    yield_stress: float | None = None    #: [Pa]
 
     @property
     def elastic(self) -> bool:
@@ -106,19 +126,18 @@ def drive_spec(name: str, values: dict, limits: Limits | None = None) -> DriveSp
     The blows follow the one rule set of blow trains, and a drive's own: they push (amplitude >
     0), and each leaves the pipe a while before the next (period > duration).
     """
-    blows, drive = values.pop("blows"), values.pop("drive")
+    blows, given, drive = values.pop("blows"), values.pop("hammer"), values.pop("drive")
     values.pop("checks", None)
     if values["contact_growth"] is not True:
         raise UserError("[soil] contact_growth = false; allowed: true (a drive starts at the "
                         "soil face: model II, outer friction over the penetrated length)")
-    period = files.period_of(blows)
-    if not period > blows["duration"]:
-        raise UserError(f"[blows] period = {period!r} s; allowed: > duration "
-                        f"({blows['duration']!r} s)")
-    train = files.blow_train({**blows, "count": 0})
-    if not train.amplitude > 0.0:
-        raise UserError(f"[blows] amplitude = {train.amplitude!r} N; allowed: > 0 (a blow "
-                        f"drives the pipe into the soil)")
+    hammer = _hammer(given, blows)
+    if hammer is None:
+        train = _rectangular(blows)
+    else:
+        train = _strikes(hammer, given, values)
+        values.update(ram_mass=hammer.ram_mass, cushion_stiffness=given["cushion_stiffness"],
+                      cushion_restitution=given["cushion_restitution"])
     elastic, reason = files.elastic_choice(values.pop("elastic"), values, train.duration)
     start = {k: v for k, v in values.items() if v is not None}
     start["elastic"] = elastic
@@ -145,7 +164,66 @@ def drive_spec(name: str, values: dict, limits: Limits | None = None) -> DriveSp
             raise UserError(f"[drive] {key} = {value!r}; allowed: {allowed}")
     _bound(limits or Limits(), params, elastic, train, step, drive["max_blows"])
     return DriveSpec(name, start, train.amplitude, train.duration, train.period,
-                     target, count, length, drive["max_blows"], step, reason, grid)
+                     target, count, length, drive["max_blows"], step, reason, grid, hammer,
+                     drive["yield_stress"])
+
+
+class _Train(NamedTuple):
+    amplitude: float     #: [N]
+    duration: float      #: the blow's, or the strike's contact time [s]
+    period: float        #: [s]
+
+
+def _rectangular(blows: dict) -> _Train:
+    """The rectangular blows of [blows]: they push (amplitude > 0), and each leaves the pipe
+    a while before the next (period > duration)."""
+    if blows["amplitude"] is None:
+        raise UserError("missing section [blows] or [hammer]: a drive needs one (keys of "
+                        "[blows]: amplitude, duration, period or rate; of [hammer]: "
+                        "rated_energy, efficiency, ram_mass, rate, cushion_stiffness, "
+                        "cushion_restitution)")
+    period = files.period_of(blows)
+    if not period > blows["duration"]:
+        raise UserError(f"[blows] period = {period!r} s; allowed: > duration "
+                        f"({blows['duration']!r} s)")
+    train = files.blow_train({**blows, "count": 0})
+    if not train.amplitude > 0.0:
+        raise UserError(f"[blows] amplitude = {train.amplitude!r} N; allowed: > 0 (a blow "
+                        f"drives the pipe into the soil)")
+    return _Train(train.amplitude, train.duration, train.period)
+
+
+def _hammer(given: dict, blows: dict) -> Hammer | None:
+    """The [hammer] of a drive (None without one); never with [blows]."""
+    if given["rated_energy"] is None:
+        return None
+    if blows["amplitude"] is not None:
+        raise UserError("[blows] and [hammer] both given; allowed: one of them (rectangular "
+                        "blows of a force, or the strikes of a ram)")
+    if not given["efficiency"] <= 1.0:
+        raise UserError(key="[hammer] efficiency", value=given["efficiency"],
+                        allowed="> 0 and <= 1")
+    if not given["cushion_restitution"] <= 1.0:
+        raise UserError(key="[hammer] cushion_restitution",
+                        value=given["cushion_restitution"], allowed="> 0 and <= 1")
+    energy, eta, mass = given["rated_energy"], given["efficiency"], given["ram_mass"]
+    return Hammer(energy, eta, mass, math.sqrt(2.0 * eta * energy / mass))
+
+
+def _strikes(hammer: Hammer, given: dict, values: dict) -> _Train:
+    """The strike train: Q = 0, one strike every 1 / rate; its "duration" the contact's
+    length, for the fine steps and the elastic grid: the cushion's half period on a fixed
+    head, pi sqrt(m / k), or, struck directly, three times the exponential pulse's m / Z1 on
+    an elastic pipe (m / Z1 of the rigid limit's impulse is 0: a tenth of the period then)."""
+    period = 1.0 / given["rate"]
+    k = given["cushion_stiffness"]
+    if k > 0.0:
+        contact = math.pi * math.sqrt(hammer.ram_mass / k)
+    else:
+        p = _params({k: v for k, v in values.items() if v is not None and k != "elastic"})
+        contact = 3.0 * hammer.ram_mass / (p.S1 * math.sqrt(p.E1 * p.rho1))
+    contact = min(contact, 0.1 * period)
+    return _Train(0.0, contact, period)
 
 
 def _bound(limits: Limits, params, elastic: bool, train, step: float, max_blows: int) -> None:

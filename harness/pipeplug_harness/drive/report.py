@@ -11,7 +11,7 @@ from pipeplug_harness import io
 
 from .run import OUTCOMES, Blow, DriveResult
 
-__all__ = ["write_csv", "blows_per_interval", "summary", "INTERVAL", "COLUMNS"]
+__all__ = ["write_csv", "blows_per_interval", "summary", "stresses", "INTERVAL", "COLUMNS"]
 
 #: Penetration interval of the drivability curve [m].
 INTERVAL = 0.25
@@ -20,7 +20,9 @@ INTERVAL = 0.25
 COLUMNS = {"blow": "-", "t_start": "s", "set": "m", "penetration": "m", "v_pipe_peak": "m/s",
            "v_plug_peak": "m/s", "W_input": "J", "W_friction_outer": "J",
            "W_friction_inner": "J", "v_pipe_end": "m/s", "v_plug_end": "m/s", "settled": "-",
-           "motion": "s", "steps": "-", "ringing_friction": "J"}
+           "motion": "s", "steps": "-", "ringing_friction": "J", "stress_head_min": "Pa",
+           "stress_head_max": "Pa", "stress_min": "Pa", "stress_max": "Pa", "enthru": "J",
+           "enthru_share": "1"}
 assert tuple(COLUMNS) == tuple(f.name for f in fields(Blow))
 
 
@@ -59,7 +61,28 @@ def summary(result: DriveResult) -> str:
             f"{rate:.4g} blows/min; {OUTCOMES[result.outcome]}")
     if result.outcome == "set":
         line += f" ({spec.refusal_text()})"
-    return line + f" at penetration {result.penetration:.6g} m (target {spec.target:.6g} m)"
+    return (line + f" at penetration {result.penetration:.6g} m (target {spec.target:.6g} m)"
+            + stresses(result))
+
+
+def stresses(result: DriveResult) -> str:
+    """The largest stresses of the drive (and against the yield stress), the mean ENTHRU."""
+    if not result.blows:
+        return ""
+    spec = result.spec
+    low = min(b.stress_min for b in result.blows)
+    high = max(b.stress_max for b in result.blows)
+    text = (f"; largest stress {-low / 1e6:.4g} MPa compressive, {high / 1e6:.4g} MPa "
+            f"tensile")
+    if spec.yield_stress:
+        worst = max(-low, high) / spec.yield_stress
+        text += (f" ({100 * worst:.3g} % of the yield stress {spec.yield_stress / 1e6:.4g} "
+                 f"MPa{', EXCEEDED' if worst > 1.0 else ''})")
+    if spec.hammer is not None:
+        share = float(np.mean([b.enthru_share for b in result.blows]))
+        text += (f"; ENTHRU {100 * share:.3g} % of the rated energy "
+                 f"{spec.hammer.rated_energy:.4g} J on average")
+    return text
 
 
 def _duration(seconds: float) -> str:

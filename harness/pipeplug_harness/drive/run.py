@@ -2,7 +2,8 @@
 or refusal.
 
 Blow ``k`` (from 0) acts from ``t_k = k * period`` to ``t_k + duration``; its window ends where
-the next blow starts, so the drive takes ``blows * period``. The blow's edges are communication
+the next blow starts, so the drive takes ``blows * period``. With a hammer (``spec.hammer``)
+blow ``k`` is a strike of the ram at ``t_k`` (Q = 0; ``duration`` the contact's length). The blow's edges are communication
 points (the FMU holds Q constant over a step). Inside the window the FMU is stepped:
 
 * in steps of at most ``step`` while the blow acts and for a while after it (the blow's
@@ -74,6 +75,15 @@ class Blow:
     steps: int                #: communication steps of the window
     ringing_friction: float   #: friction work [J] dissipated after the front end stopped for
                               #: good (0 when it still moved at the window's end)
+    stress_head_min: float    #: most compressive axial stress at the head, at the window's
+                              #: points [Pa] (compression negative)
+    stress_head_max: float    #: most tensile one there [Pa]
+    stress_min: float         #: most compressive axial stress anywhere along the pipe over the
+                              #: window [Pa] (elastic: over every internal step)
+    stress_max: float         #: most tensile one [Pa]
+    enthru: float             #: energy through the head over the window, the integral of
+                              #: F_head times the head's velocity (ENTHRU) [J]
+    enthru_share: float       #: ENTHRU over the hammer's rated energy [1] (NaN: no hammer)
 
 
 @dataclass
@@ -175,8 +185,10 @@ def _blow(s: Session, spec: DriveSpec, k: int, before: Outputs,
     """Blow ``k`` and the motion after it, up to the next blow's start."""
     t0, h, t_next = k * spec.period, pace.step, (k + 1) * spec.period
     steps0 = s.steps
-    peaks = [before.v_pipe, before.v_plug]
+    peaks = [before.v_pipe, before.v_plug, math.inf, -math.inf, math.inf, -math.inf]
     t = t0
+    if spec.hammer is not None:
+        s.strike(spec.hammer.v_strike)
     for tb in _blow_points(t0, spec.duration, pace):
         out = s.step(t, tb - t, spec.amplitude)
         t = tb
@@ -203,7 +215,10 @@ def _blow(s: Session, spec: DriveSpec, k: int, before: Outputs,
                 out.W_input - before.W_input, out.W_friction_outer - before.W_friction_outer,
                 out.W_friction_inner - before.W_friction_inner, out.v_pipe, out.v_plug,
                 settled, motion, s.steps - steps0,
-                0.0 if still_since is None else _friction(out) - w_still)
+                0.0 if still_since is None else _friction(out) - w_still, *peaks[2:],
+                out.E_transferred - before.E_transferred,
+                (out.E_transferred - before.E_transferred) / spec.hammer.rated_energy
+                if spec.hammer is not None else math.nan)
     return blow, out
 
 
@@ -213,8 +228,13 @@ def _friction(out: Outputs) -> float:
 
 
 def _raise(peaks: list, out: Outputs) -> None:
+    """Keep the largest velocities and the extreme stresses (head, along the pipe)."""
     peaks[0] = max(peaks[0], out.v_pipe)
     peaks[1] = max(peaks[1], out.v_plug)
+    peaks[2] = min(peaks[2], out.stress_head)
+    peaks[3] = max(peaks[3], out.stress_head)
+    peaks[4] = min(peaks[4], out.stress_min)
+    peaks[5] = max(peaks[5], out.stress_max)
 
 
 def _verdict(spec: DriveSpec, blows: list) -> str:

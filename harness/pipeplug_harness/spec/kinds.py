@@ -9,7 +9,8 @@ from dataclasses import dataclass, replace
 
 from .tables import SECTIONS, Key
 
-__all__ = ["FileKind", "SCENE", "DRIVE", "SWEEP_BLOW", "SWEEP_DRIVE", "SWEEP_KINDS"]
+__all__ = ["FileKind", "SCENE", "DRIVE", "DRIVE_BLOWS", "SWEEP_BLOW", "SWEEP_DRIVE",
+           "SWEEP_KINDS"]
 
 
 @dataclass(frozen=True)
@@ -42,9 +43,12 @@ DRIVE = FileKind("drive", {
     "soil": _only("soil", contact_growth=replace(SECTIONS["soil"]["contact_growth"],
                                                  default=True)),
     "blows": _only("blows", "amplitude", "duration", "period", "rate"),
+    "hammer": _only("hammer"),
     "model": {k: v for k, v in SECTIONS["model"].items() if k != "x_monitor"},
     "drive": _only("drive"), "checks": _only("checks")},
-    nested=("blows", "drive", "checks"), required=_REQUIRED)
+    nested=("blows", "hammer", "drive", "checks"), required=("pipe", "plug", "soil"))
+#: the sections of a drive that say how the blows come: exactly one of them
+DRIVE_BLOWS = ("blows", "hammer")
 
 #: a sweep of single blows runs each case until all is at rest or stop_time
 SWEEP_BLOW = FileKind("sweep", {
@@ -55,7 +59,8 @@ SWEEP_BLOW = FileKind("sweep", {
     nested=("blows", "output", "checks", "sweep"), required=_REQUIRED)
 
 SWEEP_DRIVE = FileKind("sweep", {**DRIVE.sections, "sweep": _only("sweep")},
-                       nested=("blows", "drive", "checks", "sweep"), required=_REQUIRED)
+                       nested=("blows", "hammer", "drive", "checks", "sweep"),
+                       required=DRIVE.required)
 
 #: [sweep] kind -> its file kind
 SWEEP_KINDS = {"blow": SWEEP_BLOW, "drive": SWEEP_DRIVE}

@@ -115,6 +115,24 @@ SECTIONS: dict[str, dict[str, Key]] = {
                          meaning="outputs recorded"),
         "modes": Key("bool", default=False, meaning="sweeps: a column of the contact modes"),
     },
+    "hammer": {
+        "rated_energy": Key("number", "J", None, True, (10.0, 1e7),
+                            meaning="the hammer's rated energy per blow, e.g. \"40.5 kJ\"",
+                            lower=0.0, strict=True),
+        "efficiency": Key("number", "1", 1.0, False, None, lower=0.0, strict=True,
+                          meaning="share of the rated energy the ram has when it strikes "
+                                  "(<= 1)"),
+        "ram_mass": Key("number", "kg", None, True, (1.0, 1e5), lower=0.0, strict=True,
+                        meaning="mass of the ram, e.g. \"300 kg\""),
+        "rate": Key("number", "1/s", None, True, (1e-3, 50.0), lower=0.0, strict=True,
+                    meaning="blows per second, e.g. \"200 /min\""),
+        "cushion_stiffness": Key("number", "N/m", 0.0, False, (0.0, 1e12), lower=0.0,
+                                 meaning="the cushion's stiffness; 0: the ram strikes the "
+                                         "head directly"),
+        "cushion_restitution": Key("number", "1", 1.0, False, None, lower=0.0,
+                                   strict=True, meaning="the cushion's coefficient of "
+                                                        "restitution (<= 1)"),
+    },
     "drive": {
         "target": _positive("m", (1e-4, 500.0), "depth to reach"),
         "refusal_set": _positive("m", (0.0, 1.0), "refusal: a set per blow below this",
@@ -124,6 +142,8 @@ SECTIONS: dict[str, dict[str, Key]] = {
         "refusal_length": _positive("m", (0.0, 10.0), "... this length in all", strict=False),
         "max_blows": Key("integer", "1", 100_000, False, (1, 1e7), lower=1, meaning="stop after"),
         "step": _positive("s", (1e-8, 10.0), "communication step while a blow acts"),
+        "yield_stress": _positive("Pa", (1e6, 5e9), "the pipe's yield stress: the drive "
+                                                    "reports its largest stress against it"),
     },
     "sweep": {
         "kind": Key("choice", default="blow", choices=("blow", "drive"),

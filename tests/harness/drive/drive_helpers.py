@@ -9,10 +9,11 @@ REQUIRED = {"pipe": {"L1": 1.0}, "plug": {"L2": 1.0, "tau2": 1.0e4}, "soil": {"t
 
 def complete(sections: dict) -> dict:
     """``sections`` with every required section and key filled in from :data:`REQUIRED`."""
-    out = {name: dict(keys) for name, keys in REQUIRED.items()}
+    out = {name: dict(keys) for name, keys in REQUIRED.items()
+           if not (name == "blows" and "hammer" in sections)}
     for name, keys in sections.items():
         out.setdefault(name, {}).update(keys)
-    if "rate" in out["blows"]:
+    if "rate" in out.get("blows", {}):
         out["blows"].pop("period")
     return out
 

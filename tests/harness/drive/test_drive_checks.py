@@ -68,7 +68,8 @@ def test_a_blow_that_breaks_physics_stops_the_drive(tmp_path, change, words):
 def test_the_check_names_the_blow_and_the_numbers(tmp_path):
     spec = load_drive(_casing(tmp_path))
     limits = Limits.of(spec)
-    blow = Blow(7, 1.8, 0.01, 0.5, 3.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, "rest", 0.1, 10, 0.0)
+    blow = Blow(7, 1.8, 0.01, 0.5, 3.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, "rest", 0.1, 10, 0.0,
+                -1e6, 0.0, -1e6, 0.0, 1.0, math.nan)
     created = Outputs(*(0.0 for _ in OUTPUTS))._replace(u_pipe=0.5, W_input=7.787e6,
                                                         W_friction_outer=7.889e6, at_rest=True)
     with pytest.raises(DriveInvalid) as info:

@@ -19,7 +19,20 @@ DRIVES = {
                 "soil": {"tau1": 1.0e5}, "model": {"elastic": True, "dx": 0.1},
                 "blows": {"amplitude": 5.0e4, "duration": 0.002, "period": 0.01},
                 "drive": {"max_blows": 3}},
+    # a hammer: strikes of a ram through a cushion on the elastic pipe
+    "hammer": {"pipe": {"L1": 2.0}, "plug": {"L2": 1.0, "tau2": 3.0e4},
+               "soil": {"tau1": 1.0e5}, "model": {"elastic": True, "dx": 0.1},
+               "hammer": {"rated_energy": 2000.0, "efficiency": 0.8, "ram_mass": 100.0,
+                          "rate": 20.0, "cushion_stiffness": 5e8,
+                          "cushion_restitution": 0.8},
+               "drive": {"max_blows": 3}},
 }
+
+
+def _same(a, b) -> bool:
+    """Equal records, a NaN equal to a NaN (enthru_share without a hammer)."""
+    return all(x == y or (x != x and y != y) for x, y in zip(a.values(), b.values())) \
+        and a.keys() == b.keys()
 
 
 @pytest.mark.parametrize("name", DRIVES)
@@ -29,4 +42,5 @@ def test_core_session_drive_equals_the_fmu_drive(run_drive, tmp_path, name):
     path.write_text(toml_text(DRIVES[name]))
     core = run_drive_on_core(load_drive(path))
     assert (core.outcome, core.steps) == (fmu["outcome"], fmu["steps"])
-    assert [asdict(b) for b in core.blows] == fmu["blows"]
+    assert len(core.blows) == len(fmu["blows"])
+    assert all(_same(asdict(a), b) for a, b in zip(core.blows, fmu["blows"]))

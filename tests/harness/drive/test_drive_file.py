@@ -17,7 +17,9 @@ def _load(tmp_path, sections):
 
 
 @pytest.mark.parametrize("sections, match", [
-    ({"output": {"step": 1e-3}}, r"unknown section \[output\].*pipe, plug, soil, blows, model, drive"),
+    ({"output": {"step": 1e-3}},
+     r"unknown section \[output\].*pipe, plug, soil, blows, hammer, model, "
+                                 r"drive"),
     ({"drive": {"goal": 1.0}}, "unknown key 'goal'.*target, refusal_set, refusal_count"),
     ({"blows": {"count": 3}}, "unknown key 'count'.*amplitude, duration, period"),
     ({"model": {"x_monitor": 0.5}}, "unknown key 'x_monitor'.*elastic, solver"),

@@ -1,0 +1,86 @@
+"""Drives by a hammer: the [hammer] section in an engineer's terms, its refusals, and a drive of
+strikes whose records (set, stresses, ENTHRU) hold what the physics allows."""
+from __future__ import annotations
+
+import math
+
+import pytest
+from drive_helpers import toml_text
+
+from pipeplug_harness.drive.file import load_drive
+from pipeplug_harness.drive.report import summary
+from pipeplug_harness.drive.run import run_drive_on_core
+from pipeplug_harness.errors import UserError
+
+HAMMER = {"rated_energy": "40.5 kJ", "efficiency": 0.5, "ram_mass": "2000 kg",
+          "rate": "200 /min", "cushion_stiffness": "2e9 N/m", "cushion_restitution": 0.8}
+PIPE = {"pipe": {"L1": 6.0, "R1": "295 mm", "h1": "9.5 mm", "E1": 2e11, "rho1": 7850.0},
+        "plug": {"L2": 6.0, "tau2": "10 kPa", "rho2": 2000.0}, "soil": {"tau1": "10 kPa"},
+        "model": {"elastic": True, "dx": 0.25}}
+
+
+def _load(tmp_path, sections):
+    path = tmp_path / "d.toml"
+    path.write_text(toml_text(sections))
+    return load_drive(path)
+
+
+def test_the_hammer_in_an_engineers_terms(tmp_path):
+    spec = _load(tmp_path, {**PIPE, "hammer": HAMMER, "drive": {"yield_stress": "241 MPa"}})
+    v = math.sqrt(2 * 0.5 * 40500.0 / 2000.0)             # sqrt(2 eta E / m) = 4.50 m/s
+    assert spec.hammer.v_strike == pytest.approx(v, rel=1e-15)
+    assert spec.amplitude == 0.0 and spec.period == pytest.approx(0.3, rel=1e-15)
+    assert {k: spec.start_values[k] for k in ("ram_mass", "cushion_stiffness",
+                                              "cushion_restitution")} == {
+        "ram_mass": 2000.0, "cushion_stiffness": 2e9, "cushion_restitution": 0.8}
+    assert spec.yield_stress == 2.41e8
+    # the contact's length: the cushion's half period on a fixed head, pi sqrt(m / k)
+    assert spec.duration == pytest.approx(math.pi * math.sqrt(2000.0 / 2e9), rel=1e-12)
+
+
+@pytest.mark.parametrize("sections, match", [
+    ({"hammer": HAMMER, "blows": {"amplitude": 1e4, "duration": 0.01, "period": 0.1}},
+     r"\[blows\] and \[hammer\] both given"),
+    ({"hammer": dict(HAMMER, efficiency=1.2)}, r"\[hammer\] efficiency = 1.2.*<= 1"),
+    ({"hammer": dict(HAMMER, cushion_restitution=0.0)}, r"cushion_restitution = 0.0.*> 0"),
+    ({"hammer": dict(HAMMER, rated_energy="40 kg")}, r"\[hammer\] rated_energy"),
+    ({"hammer": {k: v for k, v in HAMMER.items() if k != "ram_mass"}},
+     r"\[hammer\] ram_mass is missing"),
+    ({"hammer": HAMMER, "model": {"elastic": False}},
+     r"ram_mass = 2000.0 is not allowed.*model II"),
+])
+def test_hammer_mistakes_are_one_line(tmp_path, sections, match):
+    with pytest.raises(UserError, match=match):
+        _load(tmp_path, {**PIPE, **sections})
+
+
+def test_neither_blows_nor_hammer_is_an_error(tmp_path):
+    path = tmp_path / "d.toml"
+    path.write_text(toml_text({k: v for k, v in PIPE.items()}, fill=False))
+    with pytest.raises(UserError, match=r"missing section \[blows\] or \[hammer\]"):
+        load_drive(path)
+
+
+def test_a_drive_of_strikes_reports_stresses_and_enthru(tmp_path):
+    """Each blow: the energy through the head (ENTHRU) within what the ram brought, eta E
+    (the ram starts each strike with eta E, and may still move), the head's stress within the
+    stresses along the pipe, and the first strike's peak head stress near what the cushion's
+    half sine on the pipe's impedance allows; the summary states the largest stress against
+    the yield stress and the mean ENTHRU."""
+    spec = _load(tmp_path, {**PIPE, "hammer": HAMMER,
+                            "drive": {"yield_stress": "241 MPa", "max_blows": 4}})
+    result = run_drive_on_core(spec)
+    assert len(result.blows) == 4 and result.outcome == "max_blows"
+    for blow in result.blows:
+        assert 0.0 < blow.enthru <= 0.5 * 40500.0 * (1 + 1e-12)
+        assert blow.enthru_share == pytest.approx(blow.enthru / 40500.0, rel=1e-15)
+        assert blow.stress_min <= blow.stress_head_min < 0.0 < blow.stress_max
+        assert blow.set > 0.0
+    # A cushion k on a fixed head (an infinitely stiff pipe) pushes with m v w at most
+    # (w = sqrt(k / m)); the elastic pipe gives way, so its head sees less.
+    v, m, k = spec.hammer.v_strike, 2000.0, 2e9
+    S1 = math.pi * ((0.295 + 0.0095) ** 2 - 0.295 ** 2)
+    assert -result.blows[0].stress_head_min < m * v * math.sqrt(k / m) / S1
+    line = summary(result)
+    assert "% of the yield stress 241 MPa" in line and "ENTHRU" in line
+    assert "EXCEEDED" not in line
