@@ -142,9 +142,15 @@ class OutputFolder:
     # Files -------------------------------------------------------------------------------------
     def file(self, name: str) -> Path:
         """The path to write the file ``name`` at, recorded in the manifest first (after
-        checking the folder is still this run's)."""
+        checking the folder is still this run's, and that a file of that name there is one a
+        pipeplug command wrote: another is never written over)."""
         self.still_mine()
         if name not in self.data["files"]:
+            if os.path.lexists(self.path / name):
+                raise UserError(key="--out", value=str(self.path),
+                                allowed=f"a folder whose files pipeplug may write: {name} is "
+                                        f"there and is not one {MANIFEST} names (move it, or "
+                                        f"choose another folder)")
             self.data["files"].append(name)
             self._save()
         return self.path / name
