@@ -27,7 +27,8 @@ class Limit:
 
 #: name -> the default limit, its unit and what it bounds
 LIMITS = {
-    "memory": Limit(2e9, "bytes", "memory a run's results and load history take"),
+    "memory": Limit(2e9, "bytes", "memory a run's results and load history take, or a "
+                                 "sweep's grid values and tasks"),
     "steps": Limit(1e7, "steps", "communication steps of one run (a scene, a drive, a system, "
                                  "a blow of a drive)"),
     "work": Limit(1e12, "cell-steps", "elastic work of one run: cells x internal steps"),

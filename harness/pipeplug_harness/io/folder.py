@@ -51,7 +51,12 @@ class OutputFolder:
     command : str
         What writes there (e.g. ``"scene"``), recorded in the manifest.
     about : dict, optional
-        More to record in the manifest (e.g. a campaign's digest).
+        More to record in the manifest (e.g. a campaign's digest); what an earlier command
+        recorded there and ``about`` does not replace is kept.
+    accept : callable, optional
+        ``accept(previous)`` with the folder's earlier manifest (``{}`` without one), called
+        before the folder is changed: it raises :class:`UserError` to refuse the folder (e.g.
+        another campaign's), which is then left as it was.
 
     Raises
     ------
@@ -60,7 +65,7 @@ class OutputFolder:
         another command holds the folder.
     """
 
-    def __init__(self, path, command: str, about: dict | None = None):
+    def __init__(self, path, command: str, about: dict | None = None, accept=None):
         self.path = _prepared(Path(path)).resolve()
         self.token = uuid.uuid4().hex
         self._lock = self._locked()
@@ -71,8 +76,15 @@ class OutputFolder:
                             allowed=f"a new or empty folder, or one a pipeplug command wrote "
                                     f"(with {MANIFEST}); this one holds other files")
         self.previous = held or {}
-        self.data = {"written_by": "pipeplug", "command": command, "run": self.token,
-                     "files": list(self.previous.get("files", [])), **(about or {})}
+        if accept is not None:
+            try:
+                accept(self.previous)
+            except BaseException:
+                self.release()
+                raise
+        self.data = {**self.previous, "written_by": "pipeplug", "command": command,
+                     "run": self.token, "files": list(self.previous.get("files", [])),
+                     **(about or {})}
         self._save()
 
     # Ownership ---------------------------------------------------------------------------------
@@ -130,9 +142,15 @@ class OutputFolder:
     # Files -------------------------------------------------------------------------------------
     def file(self, name: str) -> Path:
         """The path to write the file ``name`` at, recorded in the manifest first (after
-        checking the folder is still this run's)."""
+        checking the folder is still this run's, and that a file of that name there is one a
+        pipeplug command wrote: another is never written over)."""
         self.still_mine()
         if name not in self.data["files"]:
+            if os.path.lexists(self.path / name):
+                raise UserError(key="--out", value=str(self.path),
+                                allowed=f"a folder whose files pipeplug may write: {name} is "
+                                        f"there and is not one {MANIFEST} names (move it, or "
+                                        f"choose another folder)")
             self.data["files"].append(name)
             self._save()
         return self.path / name

@@ -78,6 +78,11 @@ REPORTS = {
 }
 
 _SAMPLINGS = ("grid", "random")
+#: bytes a grid value takes while a sweep is prepared: its float64, and its text in the
+#: campaign's digest (a Python float in a list, then JSON)
+_GRID_VALUE_BYTES = 64
+#: bytes every submitted task carries besides the grid's values (the campaign, the future)
+_TASK_BYTES = 4096
 
 
 @dataclass(frozen=True)
@@ -197,7 +202,11 @@ def sweep_spec(name: str, raw: dict, limits: Limits | None = None) -> SweepSpec:
     runner = runner_of(spec)                    # decided by the cases, not by their chunking
     if chunk is None:
         chunk = BATCH_CHUNK if runner == "batch" else default_chunk
-    limits.check("tasks", -(-n_cases // chunk), f"{n_cases:.3g} cases in chunks of {chunk}")
+    tasks = -(-n_cases // chunk)
+    limits.check("tasks", tasks, f"{n_cases:.3g} cases in chunks of {chunk}")
+    values = sum(len(d.values) for d in dims if d.values is not None)
+    limits.check("memory", tasks * (_TASK_BYTES + 8 * values),
+                 f"{tasks:.3g} tasks, each carrying the campaign and its {values} grid values,")
     digest = _digest(kind, base, sampling, dims, head["seed"], n_cases, chunk, report)
     return dataclasses.replace(spec, chunk=chunk, digest=digest, runner=runner)
 
@@ -237,6 +246,7 @@ def _grid_values(name: str, value, limits: Limits) -> np.ndarray:
     if not (isinstance(num, int) and not isinstance(num, bool) and num >= 1):
         raise UserError(f"{where}: num = {num!r}; allowed: an integer >= 1")
     limits.check("cases", num, f"{where}: num = {num}")
+    limits.check("memory", num * _GRID_VALUE_BYTES, f"{where}: num = {num} values")
     if scale not in GRID_SCALES:
         raise UserError(f"{where}: scale = {scale!r}; allowed: {', '.join(GRID_SCALES)}")
     return GRID_SCALES[scale](start, stop, num, where)

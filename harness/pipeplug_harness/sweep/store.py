@@ -89,15 +89,18 @@ class ChunkStore:
     def __init__(self, folder, digest: str, n_chunks: int, fresh: bool = False,
                  about: dict | None = None):
         width = max(6, len(str(n_chunks - 1)))
+
+        def accept(held: dict) -> None:
+            """Refuse another campaign's folder (without ``fresh``) before it is changed."""
+            if held.get("campaign") not in (None, digest) and not fresh:
+                raise UserError(f"{Path(folder).resolve()} holds another campaign (digest "
+                                f"{held['campaign']}, this one {digest}): choose another "
+                                f"output folder, or start afresh (--fresh)")
+
         self.out = io.OutputFolder(folder, "sweep", {"campaign": digest, "chunks": n_chunks,
-                                                     "width": width, **(about or {})})
+                                                     "width": width, **(about or {})}, accept)
         self.folder = self.out.path
         held = self.out.previous
-        if held.get("campaign") not in (None, digest) and not fresh:
-            self.out.release()
-            raise UserError(f"{self.folder} holds another campaign (digest {held['campaign']}, "
-                            f"this one {digest}): choose another output folder, or start "
-                            f"afresh (--fresh)")
         if fresh or held.get("campaign") != digest:
             self._remove_chunks(held)
         for path in self.folder.glob(f".{PREFIX}*.tmp"):      # left by a process killed mid-write

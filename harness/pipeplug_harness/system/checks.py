@@ -38,7 +38,8 @@ def check_system(system: SystemFile, stop: float | None = None, limits=None) -> 
     (:class:`pipeplug_harness.limits.Limits`) bounds its steps.
 
     Without either, a system with one Hammer of a finite train stops one period after its last
-    blow starts. Raises :class:`SystemFileError` naming the component and the refused value.
+    blow starts. Raises :class:`SystemFileError` naming the component and the refused value
+    (the command adds the file).
     """
     warnings = []
     for component in system.components.values():
@@ -53,14 +54,15 @@ def check_system(system: SystemFile, stop: float | None = None, limits=None) -> 
             raise SystemFileError(f"component {component.name} ({component.model}): {exc}") \
                 from None
     if system.step is None:
-        raise SystemFileError(f"{system.path}: no step size (the DefaultExperiment's "
-                              f"osp:FixedStepAlgorithm baseStepSize): libcosim cannot run it")
+        raise SystemFileError("no step size (the DefaultExperiment's "
+                              "osp:FixedStepAlgorithm baseStepSize): libcosim cannot run it")
     if not (math.isfinite(system.step) and system.step > 0 and math.isfinite(system.start)):
-        raise SystemFileError(f"{system.path}: step {system.step!r} s and start "
+        raise SystemFileError(f"step {system.step!r} s and start "
                               f"{system.start!r} s must be finite, the step > 0")
     stop = _stop(system, stop)
-    if not math.isfinite(stop):
-        raise SystemFileError(f"stop time {stop!r} s: must be a finite number")
+    if not math.isfinite(stop):                # --stop is checked by the command: the file's
+        raise SystemFileError(key="DefaultExperiment stopTime", value=stop,
+                              allowed="a finite time [s]")
     exact = (stop - system.start) / system.step
     if limits is not None:
         limits.check("steps", exact, f"stop time {stop!r} s in steps of {system.step!r} s")
@@ -98,4 +100,4 @@ def _stop(system: SystemFile, stop: float | None) -> float:
         train = blows.check(hammers[0].values)
         if train.count:
             return train.start + train.count * train.period
-    raise SystemFileError(f"{system.path} gives no stop time: give one with --stop")
+    raise SystemFileError("the file gives no stop time: give one with --stop")

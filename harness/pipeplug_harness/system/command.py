@@ -51,7 +51,10 @@ def main(args: argparse.Namespace) -> int:
     if args.stop is not None and not math.isfinite(args.stop):
         raise UserError(key="--stop", value=args.stop, allowed="a finite time [s]")
     system = read_system(path, route)
-    plan = check_system(system, args.stop, args.limits)
+    try:
+        plan = check_system(system, args.stop, args.limits)
+    except UserError as exc:
+        raise exc.in_file(path) from None
     for warning in plan.warnings:
         print(f"warning: {warning}")
     names = ", ".join(f"{c.name} ({c.model})" for c in system.components.values())

@@ -116,7 +116,7 @@ def _read_ssp(path: Path) -> SystemFile:
     components = {}
     for node in root.find(f"{_SSD}System/{_SSD}Elements"):
         name = node.get("name")
-        model = _model_name(files.read(node.get("source")), f"component {name}")
+        model = _model_name(_source(files.read, node, f"component {name}"), f"component {name}")
         components[name] = Component(name, model, _first_parameter_set(node, files))
     experiment = root.find(f"{_SSD}DefaultExperiment")
     start, stop, step = 0.0, None, None
@@ -159,7 +159,8 @@ def _read_osp(path: Path) -> SystemFile:
     components = {}
     for node in root.iterfind(f"{_OSP}Simulators/{_OSP}Simulator"):
         name = node.get("name")
-        model = _model_name((path.parent / node.get("source")).read_bytes(), f"simulator {name}")
+        model = _model_name(_source(lambda s: (path.parent / s).read_bytes(), node,
+                                    f"simulator {name}"), f"simulator {name}")
         values = {v.get("variable"): _typed(v[0].tag.rsplit("}", 1)[-1], v[0].get("value"))
                   for v in node.iterfind(f"{_OSP}InitialValues/{_OSP}InitialValue")}
         components[name] = Component(name, model, values)
@@ -167,6 +168,20 @@ def _read_osp(path: Path) -> SystemFile:
 
 
 # Both ------------------------------------------------------------------------------------------
+def _source(read, node: ET.Element, what: str) -> bytes:
+    """The bytes of the FMU a component's ``source`` names (``read(source)``), or an error
+    naming the component and its source."""
+    source = node.get("source")
+    if not source:
+        raise SystemFileError(f"{what}: no source (the FMU it runs)")
+    try:
+        return read(source)
+    except (OSError, KeyError):
+        raise SystemFileError(key=f"{what}: source", value=source,
+                              allowed="the path of its FMU, relative to the system file "
+                                      "(no such file)") from None
+
+
 def _model_name(fmu: bytes, what: str) -> str:
     """modelName of the FMU whose zip is ``fmu``."""
     try:

@@ -157,3 +157,32 @@ def test_the_drivability_histogram_draws_every_drive_and_quantiles_are_whole_blo
     finally:
         matplotlib.axes.Axes.hist = hist
     assert drawn["n"] == len(blows)
+
+
+def test_a_grid_past_the_memory_limit_is_refused_before_its_values_are_made(monkeypatch):
+    """With the cases and tasks limits raised, a grid of 1e9 values was still made (8 GB, and
+    its digest's text several times that) and the process was killed: the memory limit holds."""
+    from pipeplug_harness.limits import Limits
+    from pipeplug_harness.sweep import file
+
+    def made(*args):
+        raise AssertionError("the grid's values were made")
+
+    monkeypatch.setitem(file.GRID_SCALES, "linear", made)
+    raw = {name: dict(keys) for name, keys in BASE.items()}
+    raw["grid"] = {"tau1": {"start": 0, "stop": 1, "num": 1_000_000_000}}
+    with pytest.raises(UserError, match="--limit memory="):
+        sweep_spec("t", raw, Limits({"cases": 1e10, "tasks": 1e10}))
+
+
+def test_tasks_past_the_memory_limit_are_refused():
+    """Every task carries the campaign (its grid values too): 1e8 tasks of a 2e4-value grid
+    were submitted at once with the tasks limit raised."""
+    from pipeplug_harness.limits import Limits
+
+    raw = {name: dict(keys) for name, keys in BASE.items()}
+    raw["grid"] = {"tau1": {"start": 0, "stop": 1, "num": 10_000},
+                   "tau2": {"start": 0, "stop": 1, "num": 10_000}}
+    raw["sweep"] = {"chunk": 1}
+    with pytest.raises(UserError, match="--limit memory="):
+        sweep_spec("t", raw, Limits({"tasks": 1e9}))

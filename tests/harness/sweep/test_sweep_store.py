@@ -124,3 +124,33 @@ def test_a_writer_never_writes_into_a_folder_taken_over(tmp_path):
         store.write(1, data)
     assert not store.done(1)
     other.release()
+
+
+def test_a_refused_campaign_leaves_the_folder_as_it_was(tmp_path):
+    """A second campaign refused (without --fresh) rewrote the manifest as its own first, so a
+    rerun with --fresh removed only the chunks the refused one named: the first campaign's
+    other chunks stayed in the dataset, mixed with the new rows."""
+    store = ChunkStore(tmp_path / "out", Tiny.digest, Tiny.n_chunks)
+    for c in range(Tiny.n_chunks):
+        _run_stored(Tiny(), c, store.files)
+    store.close()
+    before = (store.folder / MANIFEST).read_text()
+    with pytest.raises(UserError, match="holds another campaign"):
+        ChunkStore(store.folder, "another", 1)
+    assert (store.folder / MANIFEST).read_text() == before
+    again = ChunkStore(store.folder, "another", 1, fresh=True)
+    assert again.parts() == []
+    again.close()
+
+
+def test_another_command_into_a_campaigns_folder_keeps_its_record(tmp_path):
+    """A command of another kind writing into a campaign's folder keeps the campaign's record in
+    the manifest, so a later campaign afresh still removes the chunk files."""
+    store = ChunkStore(tmp_path / "out", Tiny.digest, Tiny.n_chunks)
+    _run_stored(Tiny(), 0, store.files)
+    store.close()
+    with OutputFolder(store.folder, "scene") as out:
+        out.file("s.csv").write_text("t\n")
+    again = ChunkStore(store.folder, "another", 1, fresh=True)
+    assert again.parts() == [] and (store.folder / "s.csv").exists()
+    again.close()

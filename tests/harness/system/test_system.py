@@ -272,7 +272,7 @@ REFUSED = {
                            "", ["no step size", "libcosim cannot run it"]),
     # each of these ended in a traceback or ran for ever before
     "stop time not a number (SSP)": ("PipeRamming.ssp", 'stopTime="0.7"', 'stopTime="nan"',
-                                     ["stop time nan s: must be a finite number"]),
+                                     ["stopTime = nan", "a finite time"]),
     "a source outside the archive (SSP)": ("PipeRamming.ssp", 'source="resources/Hammer.fmu"',
                                            'source="../../x"',
                                            ["source '../../x' points outside the archive"]),
@@ -289,9 +289,25 @@ def test_refused_before_libcosim_sees_it(case_files, pipeplug_cli, tmp_path, cas
     proc = pipeplug_cli("system", f"--{route}", path, "--out", tmp_path / "out", check=False)
     assert proc.returncode == 2, proc.stdout + proc.stderr
     assert len(proc.stderr.splitlines()) == 1 and proc.stderr.startswith("pipeplug system: ")
+    assert proc.stderr.count(str(path)) == 1, proc.stderr              # the file, named once
     for word in words:
         assert word in proc.stderr, (word, proc.stderr)
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("source", ["../../x", "resources/none.fmu"])
+def test_a_component_source_that_is_no_file_is_named(case_files, pipeplug_cli, tmp_path, source):
+    """An unpacked SSP whose component points at no file: the component, its source and why,
+    in one line (it was the reader's FileNotFoundError with the joined path)."""
+    folder = tmp_path / "unpacked"
+    zipfile.ZipFile(case_files["train, model I"] / "PipeRamming.ssp").extractall(folder)
+    ssd = folder / "SystemStructure.ssd"
+    ssd.write_text(ssd.read_text().replace('source="resources/Hammer.fmu"', f'source="{source}"'))
+    proc = pipeplug_cli("system", "--ssp", folder, "--out", tmp_path / "out", check=False)
+    assert proc.returncode == 2 and len(proc.stderr.splitlines()) == 1, proc.stderr
+    for word in (str(folder), f"component Hammer: source = {source!r}", "no such file"):
+        assert word in proc.stderr, (word, proc.stderr)
+    assert "Error" not in proc.stderr and not (tmp_path / "out").exists()
 
 
 def test_a_grid_missing_an_edge_is_named(case_files, pipeplug_cli, tmp_path):
