@@ -98,8 +98,11 @@ class Load:
         rows = []
         for a, b in zip(points[:-1], points[1:]):
             q = self.at(a)
-            rows += [(a, q), (b, q)]
-        return np.array(rows, dtype=[("time", np.float64), ("Q", np.float64)])
+            rows += [(a, q, 0, 0.0), (b, q, 0, 0.0)]
+        # PipePlug's other inputs, the ram's, held at their start values: no strike (fmpy
+        # warns of every input the signal leaves out)
+        return np.array(rows, dtype=[("time", np.float64), ("Q", np.float64),
+                                     ("strikes", np.int32), ("v_strike", np.float64)])
 
 
 #: no force at all

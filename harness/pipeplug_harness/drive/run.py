@@ -3,8 +3,8 @@ or refusal.
 
 Blow ``k`` (from 0) acts from ``t_k = k * period`` to ``t_k + duration``; its window ends where
 the next blow starts, so the drive takes ``blows * period``. With a hammer (``spec.hammer``)
-blow ``k`` is a strike of the ram at ``t_k`` (Q = 0; ``duration`` the contact's length). The blow's edges are communication
-points (the FMU holds Q constant over a step). Inside the window the FMU is stepped:
+blow ``k`` is a strike of the ram at ``t_k`` (Q = 0; ``duration`` the contact's length). The
+blow's edges are communication points (the FMU holds Q constant over a step). Inside the window the FMU is stepped:
 
 * in steps of at most ``step`` while the blow acts and for a while after it (the blow's
   duration in the rigid model, a wave round trip 2 L1 / c1 in the elastic one), so that the

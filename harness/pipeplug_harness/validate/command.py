@@ -148,7 +148,7 @@ def write_cross_check(out) -> None:
                    Q0=CROSS_CHECK_BLOW[2], t0=CROSS_CHECK_BLOW[1])
     start, stop, step = DEFAULT_EXPERIMENT
     signal = Load.from_pulses([CROSS_CHECK_BLOW]).signal(stop)
-    io.write_csv(out.file("PipePlug_in.csv"), ["time", "Q"], signal.tolist(),
+    io.write_csv(out.file("PipePlug_in.csv"), ["time", "Q"], signal[["time", "Q"]].tolist(),
                  titles=["time", "Q"])
     t = np.linspace(start, stop, round((stop - start) / step) + 1)
     ref = cf.solution(case, t)
