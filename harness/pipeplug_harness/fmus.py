@@ -68,10 +68,15 @@ def cached_build(build=None) -> Path:
     a subprocess)."""
     folder = cache_root() / "fmu" / build_digest()
     fmu = folder / BUILD_FILES[0]
-    if fmu.is_file():
-        return fmu
-    folder.parent.mkdir(parents=True, exist_ok=True)
-    work = Path(tempfile.mkdtemp(prefix=".building-", dir=folder.parent))
+    try:
+        if fmu.is_file():
+            return fmu
+        folder.parent.mkdir(parents=True, exist_ok=True)
+        work = Path(tempfile.mkdtemp(prefix=".building-", dir=folder.parent))
+    except OSError as exc:                     # a cache folder of another user, say
+        raise UserError(f"the FMU cache cannot be used ({type(exc).__name__}: "
+                        f"{exc.strerror or exc}); give --fmu, or set PIPEPLUG_CACHE_DIR to a "
+                        f"folder of your own", file=folder.parent) from None
     try:
         print(f"pipeplug: building the FMUs of this installation into {folder} (once)",
               file=sys.stderr, flush=True)

@@ -43,7 +43,7 @@ def test_version(tmp_path):
     (("drive", "."), ["is a folder, not a file"]),
     (("sweep", "missing.toml"), ["missing.toml: no such file"]),
     (("system", "--ssp", "missing.ssp"), ["missing.ssp", "no such file"]),
-    (("fuzz", "--replay", "missing.json"), ["missing.json", "not a fuzz case file"]),
+    (("fuzz", "--replay", "missing.json"), ["missing.json", "no such fuzz case file"]),
     (("fuzz", "--jobs", "2"), ["unrecognized arguments: --jobs 2"]),        # Dask only now
     (("fuzz", "--cases", "-3"), ["--cases = -3; allowed: >= 1"]),
     (("scene", "s.toml", "--limit", "speed=3"), ["--limit", "memory, steps"]),
@@ -125,3 +125,12 @@ def test_a_sweep_leaves_nothing_in_the_temporary_directory(tmp_path):
                 env={"TMPDIR": str(temp)})
     assert proc.returncode == 0, proc.stderr
     assert list(temp.iterdir()) == []
+
+
+def test_a_cache_that_cannot_be_used_is_one_line(tmp_path, monkeypatch):
+    """A cache folder that is a file (or another user's) gave an internal PermissionError."""
+    blocked = tmp_path / "cache"
+    blocked.write_text("not a folder")
+    monkeypatch.setenv("PIPEPLUG_CACHE_DIR", str(blocked))
+    with pytest.raises(UserError, match="the FMU cache cannot be used.*PIPEPLUG_CACHE_DIR"):
+        fmus.cached_build(lambda folder: None)

@@ -134,6 +134,8 @@ def load_failure(path: str | Path) -> tuple[Case, dict]:
     """The case of a file written by :func:`save_failure` (or a bare case file), and the
     file's data."""
     path = Path(path)
+    if not path.exists():
+        raise UserError("no such fuzz case file", file=path)
     if not path.is_file() or path.stat().st_size > 2 ** 26:
         raise UserError("not a fuzz case file (a regular file of at most 64 MB)", file=path)
     try:
