@@ -226,7 +226,7 @@ class ElasticModel(ModelBase):
         acc = self.acc
         acc[N_MIN], acc[N_MAX] = float(self.N1.min()), float(self.N1.max())
         if acc[RAM]:
-            acc[RAM + 1] += n * self.clock.h * acc[RAM]
+            acc[RAM + 1] = _fly(acc[RAM + 1], self.clock.h * (acc[RAM] - self.v1[0]), n)
 
     def strike(self, velocity: float) -> None:
         """Start a strike now: the ram at the head, touching an unloaded cushion, moving at
@@ -381,6 +381,24 @@ class ElasticModel(ModelBase):
         clock.k, clock.pending = int(state["k"]), float(state["pending"])
         clock.pending_load = float(state["pending_load"])
         clock.mixed = bool(state["mixed"])
+
+
+#: steps of a ram's flight added at once (memory of one chunk: 8 x this bytes)
+_FLIGHT_CHUNK = 1 << 16
+
+
+def _fly(delta: float, step: float, n: int) -> float:
+    """``delta`` [m] after ``n`` additions of ``step`` [m], one at a time, as ``n`` internal
+    steps add them: the same bits on every host grid (``n * step`` in one product would round
+    otherwise, and the moment a pulled pipe meets the ram again would depend on how the host
+    stepped)."""
+    while n > 0:
+        m = min(n, _FLIGHT_CHUNK)
+        chunk = np.full(m + 1, step)
+        chunk[0] = delta
+        delta = float(np.add.accumulate(chunk)[-1])
+        n -= m
+    return delta
 
 
 def _work(acc, index) -> float:

@@ -74,16 +74,24 @@ def ledger_error(rows, times, h: float) -> float:
     return relative_error(balance / allowance, 0.0, _largest_work(rows))
 
 
-def energy_violations(rows, cushion_allowance: float = 0.0, m_ram: float = 0.0) -> float:
+def energy_violations(rows, cushion_allowance: float = 0.0, m_ram: float = 0.0,
+                      times=None, h: float = 0.0) -> float:
     """Points where a term of the ledger is negative (the cushion's loss below
-    ``-cushion_allowance`` [J], :meth:`RodBody.cushion_allowance`), W_numerical is not 0, the
+    ``-cushion_allowance`` [J], :meth:`RodBody.cushion_allowance`, and the ledger's round-off
+    at ``times``), W_numerical is not 0, the
     friction work exceeds the work put in (force and ram) by more than that, an output is not finite, or the model
     claims rest while pipe or plug move or anything but a ram of ``m_ram`` [kg] holds kinetic
     energy."""
     c = COLUMN
     bad = ~np.all(np.isfinite(rows), axis=1)
+    # W_cushion is the work on the cushion less what it holds: 0 on its lines, to the ledger's
+    # round-off (``times`` [s] at steps of ``h`` [s] give the steps taken)
+    roundoff = 0.0
+    if times is not None and h > 0.0:
+        roundoff = (LEDGER_BASE + LEDGER_PER_STEP * np.floor(np.asarray(times) / h + 1e-6)) \
+            * _largest_work(rows)
     for name in LEDGER_TERMS:
-        floor = -cushion_allowance if name == "W_cushion" else 0.0
+        floor = -(cushion_allowance + roundoff) if name == "W_cushion" else 0.0
         bad |= _column(rows, name) < floor
     bad |= _column(rows, "W_numerical") != 0.0
     # What the cushion may give back is the only energy the scheme may create.
