@@ -64,3 +64,26 @@ def test_a_failing_case_is_a_row_with_its_error_and_the_others_go_on():
     rows = spec.run_chunk(0).to_pylist()
     assert rows[0]["error"] == "" and math.isfinite(rows[0]["u_pipe"])
     assert "dx" in rows[1]["error"] and rows[1]["u_pipe"] is None
+
+
+def test_a_sweep_of_hammer_drives_varies_the_hammer():
+    """Drives by a hammer in a sweep: a more efficient hammer (more of its rated energy in the
+    ram) needs no more blows, and each case is the drive run on its own."""
+    from pipeplug_harness.drive.file import drive_spec
+    from pipeplug_harness.drive.run import run_drive_on_core
+    from pipeplug_harness.spec import DRIVE, checked
+
+    base = {"pipe": {"L1": 4.0, "R1": "295 mm", "h1": "9.5 mm"},
+            "plug": {"L2": 4.0, "tau2": "10 kPa"}, "soil": {"tau1": "10 kPa"},
+            "hammer": {"rated_energy": "40.5 kJ", "ram_mass": "2000 kg", "rate": "200 /min",
+                       "cushion_stiffness": "2e9 N/m", "cushion_restitution": 0.8},
+            "model": {"elastic": True, "dx": 0.25}, "drive": {"target": 2.0}}
+    spec = sweep_spec("t", {**base, "grid": {"efficiency": [0.3, 0.6]},
+                            "sweep": {"kind": "drive"}})
+    rows = spec.run_chunk(0).to_pylist()
+    assert [r["error"] for r in rows] == ["", ""]
+    assert [r["outcome"] for r in rows] == ["target", "target"]
+    assert rows[1]["blows"] <= rows[0]["blows"]
+    alone = run_drive_on_core(drive_spec("x", checked(
+        {**base, "hammer": {**base["hammer"], "efficiency": 0.3}}, DRIVE)))
+    assert (len(alone.blows), alone.penetration) == (rows[0]["blows"], rows[0]["penetration"])
