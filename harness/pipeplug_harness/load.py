@@ -91,16 +91,21 @@ class Load:
         """The last change time [s] (0 for no load)."""
         return self.times[-1] if self.times else 0.0
 
-    def signal(self, stop: float) -> np.ndarray:
+    def signal(self, stop: float, strikes=()) -> np.ndarray:
         """The input signal of fmpy's ``simulate_fmu`` from 0 to ``stop`` [s]: each change on
-        a duplicated time stamp, so the step starting there sees the new value."""
-        points = [0.0, *self.changes_within(0.0, stop), stop]
-        rows = []
+        a duplicated time stamp, so the step starting there sees the new value. PipePlug's
+        other inputs are the ram's: ``strikes`` ((time [s], velocity [m/s]) each) raise the
+        counter ``strikes`` at their times, with ``v_strike``; without them both hold their
+        start values (fmpy warns of every input a signal leaves out)."""
+        at = {float(t): v for t, v in strikes}
+        points = sorted({0.0, *self.changes_within(0.0, stop), *(t for t in at if t < stop),
+                         stop})
+        rows, count, speed = [], 0, 0.0
         for a, b in zip(points[:-1], points[1:]):
+            if a in at:
+                count, speed = count + 1, at[a]
             q = self.at(a)
-            rows += [(a, q, 0, 0.0), (b, q, 0, 0.0)]
-        # PipePlug's other inputs, the ram's, held at their start values: no strike (fmpy
-        # warns of every input the signal leaves out)
+            rows += [(a, q, count, speed), (b, q, count, speed)]
         return np.array(rows, dtype=[("time", np.float64), ("Q", np.float64),
                                      ("strikes", np.int32), ("v_strike", np.float64)])
 

@@ -240,9 +240,10 @@ def run_points(session: Session, load: Load, points) -> np.ndarray:
 
 
 def simulate(fmu, start_values: dict, load: Load, step: float, stop: float,
-             outputs=OUTPUT_NAMES) -> np.ndarray:
-    """fmpy's ``simulate_fmu`` from 0 to ``stop`` [s] every ``step`` [s] under ``load``, with
-    every load change a communication point; checked to reach ``stop``.
+             outputs=OUTPUT_NAMES, strikes=()) -> np.ndarray:
+    """fmpy's ``simulate_fmu`` from 0 to ``stop`` [s] every ``step`` [s] under ``load`` and the
+    ram's ``strikes`` ((time [s], velocity [m/s]) each), with every load change and strike a
+    communication point; checked to reach ``stop``.
 
     Returns
     -------
@@ -257,7 +258,7 @@ def simulate(fmu, start_values: dict, load: Load, step: float, stop: float,
     from fmpy import simulate_fmu
     result = simulate_fmu(
         unpacked(fmu), fmi_type="CoSimulation", start_time=0.0, stop_time=stop,
-        output_interval=step, start_values=dict(start_values), input=load.signal(stop),
+        output_interval=step, start_values=dict(start_values), input=load.signal(stop, strikes),
         output=list(outputs), validate=False)
     last = float(result["time"][-1])
     if abs(last - stop) > 1e-9 * max(1.0, stop):

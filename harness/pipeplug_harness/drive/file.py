@@ -194,20 +194,15 @@ def _rectangular(blows: dict) -> _Train:
 
 
 def _hammer(given: dict, blows: dict) -> Hammer | None:
-    """The [hammer] of a drive (None without one); never with [blows]."""
+    """The [hammer] of a drive (None without one), by the Hammer's rules
+    (:func:`pipeplug_harness.spec.ram_train`); never with [blows]."""
     if given["rated_energy"] is None:
         return None
     if blows["amplitude"] is not None:
         raise UserError("[blows] and [hammer] both given; allowed: one of them (rectangular "
                         "blows of a force, or the strikes of a ram)")
-    if not given["efficiency"] <= 1.0:
-        raise UserError(key="[hammer] efficiency", value=given["efficiency"],
-                        allowed="> 0 and <= 1")
-    if not given["cushion_restitution"] <= 1.0:
-        raise UserError(key="[hammer] cushion_restitution",
-                        value=given["cushion_restitution"], allowed="> 0 and <= 1")
-    energy, eta, mass = given["rated_energy"], given["efficiency"], given["ram_mass"]
-    return Hammer(energy, eta, mass, math.sqrt(2.0 * eta * energy / mass))
+    train = files.ram_train(given)
+    return Hammer(given["rated_energy"], given["efficiency"], train.ram_mass, train.v_strike)
 
 
 def _strikes(hammer: Hammer, given: dict, values: dict) -> _Train:

@@ -28,7 +28,7 @@ def main(args: argparse.Namespace) -> int:
         for scene in scenes:
             print(f"{scene.name}: {scene.reason}", flush=True)
             result = simulate(fmu, scene.start_values, scene.load, scene.step, scene.stop_time,
-                              outputs=scene.variables)
+                              outputs=scene.variables, strikes=scene.strikes)
             names = ["time", *scene.variables]
             units = {"time": "s", **{v: OUTPUT_UNITS[v] for v in scene.variables}}
             csv_path = io.write_csv(out.file(f"{scene.name}.csv"), names,

@@ -10,6 +10,9 @@
     [blows]                     # amplitude, duration (required); period or rate, count, start
     amplitude = "23 kN"
     duration = "50 ms"
+    # or, instead of [blows], the strikes of a ram (PipePlug's own, through its inputs):
+    # [hammer]                  # rated_energy, ram_mass, rate (required); efficiency,
+    #                           # cushion_stiffness, cushion_restitution, count, start
     [model]                     # elastic = true | false | "auto"; solver; dt dx courant x_monitor
     elastic = "auto"
     [output]                    # stop_time, step, variables
@@ -51,6 +54,7 @@ class Scene:
     step: float
     variables: list
     reason: str = ""
+    strikes: tuple = ()      #: (time [s], ram velocity [m/s]) of each strike
 
     @property
     def steps(self) -> int:
@@ -69,30 +73,57 @@ def load_scene(path, limits: Limits | None = None) -> Scene:
 
 def scene_of(name: str, values: dict, limits: Limits) -> Scene:
     """A :class:`Scene` from checked sections (:func:`pipeplug_harness.spec.checked`)."""
-    blows, output = values.pop("blows"), values.pop("output")
+    blows, hammer, output = values.pop("blows"), values.pop("hammer"), values.pop("output")
     values.pop("checks")
-    train = spec.blow_train(blows)
+    section, train = _train(blows, hammer)
     stop = output["stop_time"]
     if stop is None:
         if not train.count:
-            raise UserError("[output] stop_time is missing: a train without end ([blows] "
-                            "count = 0) runs to the stop time")
+            raise UserError(f"[output] stop_time is missing: a train without end ([{section}] "
+                            f"count = 0) runs to the stop time")
         stop = train.end() + AFTER_BLOWS
     count = train.count or math.ceil((stop - train.start) / train.period)
-    limits.check("blows", count, f"[blows] count = {train.count} over [output] stop_time = "
-                                 f"{stop!r} s")
+    limits.check("blows", count, f"[{section}] count = {train.count} over [output] stop_time "
+                                 f"= {stop!r} s")
     step = output["step"]
     steps = stop / step
     limits.check("steps", steps, f"[output] step = {step!r} s to stop_time = {stop!r} s")
     limits.memory(steps * (1 + len(output["variables"])), f"recording {len(output['variables'])}"
                                                           f" variables every {step!r} s")
-    elastic, reason = spec.elastic_choice(values.pop("elastic"), values, train.duration)
+    strikes = ()
+    if section == "hammer":
+        values.update(ram_mass=train.ram_mass, cushion_stiffness=hammer["cushion_stiffness"],
+                      cushion_restitution=hammer["cushion_restitution"])
+        strikes = tuple((train.start + k * train.period, train.v_strike) for k in range(count)
+                        if train.start + k * train.period < stop)
+        # the elastic rule compares the strike's contact with the wave round trip: the
+        # cushion's half period on a fixed head (a direct strike: immediate)
+        k = hammer["cushion_stiffness"]
+        duration = math.pi * math.sqrt(train.ram_mass / k) if k > 0.0 else 0.0
+        load = Load()
+    else:
+        duration, load = train.duration, Load.from_train(train, stop)
+    elastic, reason = spec.elastic_choice(values.pop("elastic"), values, duration)
     start_values = {k: v for k, v in values.items() if v is not None}
     start_values["elastic"] = elastic
     if elastic:
         _bound_elastic(start_values, stop, limits)
-    return Scene(name, start_values, Load.from_train(train, stop), stop, step,
-                 list(output["variables"]), reason)
+    return Scene(name, start_values, load, stop, step, list(output["variables"]), reason,
+                 strikes)
+
+
+def _train(blows: dict, hammer: dict):
+    """("blows", the blow train) or ("hammer", the strikes), exactly one of them given."""
+    if hammer["rated_energy"] is None:
+        if blows["amplitude"] is None:
+            raise UserError("missing section [blows] or [hammer]: a scene needs one (keys of "
+                            "[blows]: amplitude, duration, ...; of [hammer]: rated_energy, "
+                            "ram_mass, rate, ...)")
+        return "blows", spec.blow_train(blows)
+    if blows["amplitude"] is not None:
+        raise UserError("[blows] and [hammer] both given; allowed: one of them (rectangular "
+                        "blows of a force, or the strikes of a ram)")
+    return "hammer", spec.ram_train(hammer, hammer["count"], hammer["start"])
 
 
 def _bound_elastic(start_values: dict, stop: float, limits: Limits) -> None:

@@ -33,9 +33,9 @@ _PHYSICS = {"pipe": _only("pipe"), "plug": _only("plug"), "soil": _only("soil")}
 _REQUIRED = ("pipe", "plug", "soil", "blows")
 
 SCENE = FileKind("scene", {
-    **_PHYSICS, "blows": _only("blows"), "model": _only("model"),
+    **_PHYSICS, "blows": _only("blows"), "hammer": _only("hammer"), "model": _only("model"),
     "output": _only("output", "stop_time", "step", "variables"), "checks": _only("checks")},
-    nested=("blows", "output", "checks"), required=_REQUIRED)
+    nested=("blows", "hammer", "output", "checks"), required=("pipe", "plug", "soil"))
 
 #: a drive starts at the soil face (model II), blow k at k period, and monitors the front end
 DRIVE = FileKind("drive", {
@@ -43,7 +43,7 @@ DRIVE = FileKind("drive", {
     "soil": _only("soil", contact_growth=replace(SECTIONS["soil"]["contact_growth"],
                                                  default=True)),
     "blows": _only("blows", "amplitude", "duration", "period", "rate"),
-    "hammer": _only("hammer"),
+    "hammer": {k: v for k, v in SECTIONS["hammer"].items() if k not in ("count", "start")},
     "model": {k: v for k, v in SECTIONS["model"].items() if k != "x_monitor"},
     "drive": _only("drive"), "checks": _only("checks")},
     nested=("blows", "hammer", "drive", "checks"), required=("pipe", "plug", "soil"))
@@ -52,7 +52,7 @@ DRIVE_BLOWS = ("blows", "hammer")
 
 #: a sweep of single blows runs each case until all is at rest or stop_time
 SWEEP_BLOW = FileKind("sweep", {
-    **{k: v for k, v in SCENE.sections.items() if k != "output"},
+    **{k: v for k, v in SCENE.sections.items() if k not in ("output", "hammer")},
     "output": _only("output", "stop_time", "modes",
                     stop_time=replace(SECTIONS["output"]["stop_time"], default=100.0)),
     "sweep": _only("sweep")},

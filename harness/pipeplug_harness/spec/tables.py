@@ -132,6 +132,10 @@ SECTIONS: dict[str, dict[str, Key]] = {
         "cushion_restitution": Key("number", "1", 1.0, False, None, lower=0.0,
                                    strict=True, meaning="the cushion's coefficient of "
                                                         "restitution (<= 1)"),
+        "count": _positive("1", (0, 1e6), "scenes: number of strikes; 0 = no end (to the stop "
+                                          "time)", 1, strict=False, kind="integer"),
+        "start": _positive("s", (0.0, 1e5), "scenes: when the first strike starts", 0.0,
+                           strict=False),
     },
     "drive": {
         "target": _positive("m", (1e-4, 500.0), "depth to reach"),

@@ -4,6 +4,7 @@ import csv
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from pipeplug_harness.errors import UserError
@@ -186,3 +187,69 @@ def test_every_shipped_scene_loads():
     assert files
     for path in files:
         assert load_scene(path).load.times
+
+
+RAM_SCENE = """
+[pipe]
+L1 = 1.0
+[plug]
+L2 = 1.0
+tau2 = "10 kPa"
+[soil]
+tau1 = "40 kPa"
+[hammer]
+rated_energy = "400 J"
+efficiency = 0.8
+ram_mass = "50 kg"
+rate = "300 /min"
+cushion_stiffness = "2e7 N/m"
+cushion_restitution = 0.8
+count = 3
+[model]
+elastic = false
+[output]
+stop_time = 0.6
+variables = ["u_pipe", "v_ram", "W_ram"]
+"""
+
+
+def test_a_scene_of_strikes_runs_through_the_fmus_inputs(pipeplug_cli, fmu_file, tmp_path):
+    """[hammer] instead of [blows]: three strikes at 0, 0.2 and 0.4 s at v = sqrt(2 eta E / m)
+    reach PipePlug through its inputs strikes and v_strike; the pipe is model I, whose ODE
+    reference with a ram (independent of the core) gives the same motion within 1e-9."""
+    from pipeplug_references.ram_ivp import simulate_ram
+
+    (tmp_path / "ram.toml").write_text(RAM_SCENE)
+    proc = pipeplug_cli("scene", tmp_path / "ram.toml", "--fmu", fmu_file, "--out",
+                        tmp_path / "o")
+    assert "missing input" not in proc.stdout + proc.stderr
+    rows = list(csv.DictReader(open(tmp_path / "o" / "ram.csv")))
+    t = np.array([float(r["time [s]"]) for r in rows])[1:]
+    v = math.sqrt(2 * 0.8 * 400.0 / 50.0)
+    before = np.where(np.isin(t, [0.2, 0.4]), np.nextafter(t, 0.0), t)   # outputs before a strike
+    ref = simulate_ram({"L1": 1.0, "L2": 1.0, "R1": 0.035, "h1": 0.003, "rho1": 7800.0,
+                        "rho2": 1800.0, "tau1": 4e4, "tau2": 1e4},
+                       {"mass": 50.0, "k": 2e7, "e": 0.8},
+                       [(k * 0.2, "strike", v) for k in range(3)], before)
+    for name, unit in (("u_pipe", "m"), ("v_ram", "m/s"), ("W_ram", "J")):
+        got = np.array([float(r[f"{name} [{unit}]"]) for r in rows])[1:]
+        assert np.abs(got - ref[name]).max() <= 1e-9 * np.abs(ref[name]).max(), name
+
+
+@pytest.mark.parametrize("change, words", [
+    ("[blows]\namplitude = 1e4\nduration = 0.01\n", r"\[blows\] and \[hammer\] both given"),
+    ("", None),
+])
+def test_a_scene_takes_blows_or_a_hammer(tmp_path, change, words):
+    path = tmp_path / "s.toml"
+    path.write_text(RAM_SCENE + change)
+    if words:
+        with pytest.raises(UserError, match=words):
+            load_scene(path)
+    else:
+        scene = load_scene(path)
+        assert [t for t, _ in scene.strikes] == [0.0, 0.2, 0.4]
+        assert scene.start_values["ram_mass"] == 50.0 and not scene.load.forces
+    path.write_text(RAM_SCENE.replace("efficiency = 0.8", "efficiency = 1.5"))
+    with pytest.raises(UserError, match=r"\[hammer\] efficiency = 1.5"):
+        load_scene(path)
