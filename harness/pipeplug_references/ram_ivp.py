@@ -22,7 +22,9 @@ contact modes (pipe, plug, ram: free, loading, unloading, riding), each integrat
 ``solve_ivp`` (DOP853) with terminal events for every mode change (a velocity reaching 0, the
 largest compression, the cushion's force reaching 0, the compression reaching Dmax again, the
 ram reaching the cushion, the held pipe's or the carried plug's force reaching its friction
-limit). At every event and at every load change or strike the modes are decided anew by the
+limit). The events that are levels of the compression are looked for also between its turns
+(where it is monotone), as a crossing and back within one step of the integrator shows no sign
+change at the step's ends. At every event and at every load change or strike the modes are decided anew by the
 joint two-contact Coulomb problem (:func:`pipeplug_references.rigid_ivp.coulomb_modes`) under
 Q plus the cushion's force; a friction force that reached its limit by the cushion's growing
 force slips in that direction. Works are bookkept from the displacements (Q dU1, F1 |dU1|,
@@ -246,6 +248,13 @@ def _piece(s, r, y, st, t, tb, times, k, rtol):
         touch = (1.0 - r.e ** 2) * dmax
         add(lambda z: z[4] - touch, -1, "cushion unloaded")
         add(lambda z: z[4] - dmax, 1, "reloading")
+    if c in (LOAD, UNLOAD):
+        # the compression's turns: between two it is monotone, and so is every event that is
+        # a level of it; a crossing of such a level and back within one step of the
+        # integrator (or before the step's end past a terminal event) hides from the events
+        # above, and shows between the turns around it
+        add(lambda z: z[5] - z[1], 0, "turn")
+        evs[-1].terminal = False
     touch = (1.0 - r.e ** 2) * dmax if r.k > 0.0 else 0.0
     if c == FREE and st["struck"]:
         add(lambda z: z[4] - touch, 1, "ram reaches the head")
@@ -265,6 +274,8 @@ def _piece(s, r, y, st, t, tb, times, k, rtol):
     if sol.status == 1:
         i = next(i for i, te in enumerate(sol.t_events) if len(te) and evs[i].terminal)
         t_end, y_end, name = float(sol.t_events[i][-1]), sol.y_events[i][-1].copy(), evs[i].name
+    if c in (LOAD, UNLOAD):
+        t_end, y_end, name = _hidden_levels(evs, sol, t, y, t_end, y_end, name)
     for i, event in enumerate(evs):
         if event.name == "closest approach" and y[4] < touch:
             hidden = [tt for tt, z in zip(sol.t_events[i], sol.y_events[i])
@@ -274,6 +285,39 @@ def _piece(s, r, y, st, t, tb, times, k, rtol):
                                rtol=4.0 * np.finfo(float).eps)
                 y_end, name = sol.sol(t_end), "ram reaches the head"
     return t_end, y_end, name, sol
+
+
+#: the events that are levels of the compression alone (Q, the modes and Dmax fixed)
+_LEVELS = ("cushion unloaded", "reloading", "pipe breaks away +", "pipe breaks away -",
+           "plug breaks away +", "plug breaks away -")
+
+
+def _hidden_levels(evs, sol, t, y, t_end, y_end, name):
+    """The first crossing, in its direction, of a level of the compression between ``t``, the
+    compression's turns and ``t_end`` (where it is monotone), when earlier than ``t_end``:
+    ``(t_end, y_end, name)`` of the piece's end."""
+    turns = next(te for te, ev in zip(sol.t_events, evs) if ev.name == "turn")
+    bounds = [t] + sorted(tt for tt in turns if t < tt < t_end) + [t_end]
+
+    def at(tt):
+        return y if tt == t else y_end if tt == t_end else sol.sol(tt)
+
+    best = (t_end, None)
+    for event in evs:
+        if event.name not in _LEVELS:
+            continue
+        g = [event(tt, at(tt)) for tt in bounds]
+        for a, b, ga, gb in zip(bounds[:-1], bounds[1:], g[:-1], g[1:]):
+            if not event.direction * ga < 0.0 or event.direction * gb < 0.0:
+                continue
+            root = b if gb == 0.0 else brentq(lambda tt: event(tt, at(tt)), a, b, xtol=1e-300,
+                                              rtol=4.0 * np.finfo(float).eps)
+            if root < best[0]:
+                best = (root, event.name)
+            break
+    if best[1] is None:
+        return t_end, y_end, name
+    return best[0], sol.sol(best[0]), best[1]
 
 
 def _event(s, r, y, st, fired):

@@ -67,6 +67,55 @@ def test_a_direct_impact_and_a_zeno_sequence():
     assert out["W_cushion"][-1] == pytest.approx(0.5 * m * M1 / (m + M1) * V0 ** 2, rel=1e-9)
 
 
+def _event_times(out, cause):
+    return [t for t, text in out["events"] if text.startswith(cause + ":")]
+
+
+def test_a_shallow_dip_below_the_cushions_touch_parts_ram_and_pipe():
+    # fuzz --model ram, seed 2027, case 90: on the unloading line the compression oscillated
+    # from Dmax down to just below where the force is 0 and back within one step of the
+    # integrator, which saw no sign change: the cushion pulled instead of the ram flying.
+    # Pipe and ram under a constant pull Q < 0, no friction: the compression D obeys
+    # D'' = A - F / mu (A = -Q / M1), so loading from D = 0 at v0 it peaks at
+    # Dmax = D_A + sqrt(D_A^2 + (v0 / omega)^2) (D_A = A mu / k) when
+    # t1 = (pi - atan(v0 / (omega D_A))) / omega; unloading (omega / e) about
+    # D_u = touch + A mu e^2 / k it reaches touch = (1 - e^2) Dmax (a dip of
+    # e^2 (Dmax - 2 D_A) below it) at t1 + acos((touch - D_u) / (Dmax - D_u)) e / omega, closing
+    # at -(Dmax - D_u) omega / e sin(...), and the ram flies back to it in 2 |closing| / A.
+    m, k, e, q, v0 = 0.5, 5e4, 0.7, -4.5e4, 0.5
+    mu, a = m * M1 / (m + M1), -q / M1
+    omega = math.sqrt(k / mu)
+    d_a = a * mu / k
+    d_max = d_a + math.sqrt(d_a ** 2 + (v0 / omega) ** 2)
+    t1 = (math.pi - math.atan(v0 / (omega * d_a))) / omega
+    touch = (1.0 - e * e) * d_max
+    d_u = touch + a * mu * e * e / k
+    phase = math.acos((touch - d_u) / (d_max - d_u))
+    t_part = t1 + phase * e / omega
+    t_back = t_part + 2.0 * (d_max - d_u) * omega / e * math.sin(phase) / a
+    out = simulate_ram(FREE, dict(mass=m, k=k, e=e), [(0.0, "q", q), (0.0, "strike", v0)],
+                       np.array([2.0 * t_back]))
+    assert _event_times(out, "largest compression")[0] == pytest.approx(t1, rel=1e-12)
+    assert _event_times(out, "cushion unloaded")[0] == pytest.approx(t_part, rel=1e-11)
+    assert _event_times(out, "ram reaches the head")[0] == pytest.approx(t_back, rel=1e-11)
+
+
+def test_a_held_pipe_breaks_away_just_before_the_cushions_peak():
+    # fuzz --model ram, seed 2027, case 1560: the cushion's force passed the soil's hold
+    # shortly before its peak and the integrator's step that met the largest compression
+    # (terminal) ended where the force was below the hold again: no breakaway was seen.
+    # A ram on a held pipe oscillates alone (F = v0 sqrt(k m) sin(sqrt(k / m) t)); a hold
+    # F1 just below the peak lets the pipe go at asin(F1 / peak) / omega.
+    m, k = 50.0, 2e6
+    peak, omega = V0 * math.sqrt(k * m), math.sqrt(k / m)
+    hold = peak * (1.0 - 1e-6)
+    tau1 = hold / System(dict(FREE, tau1=1.0), False).c1_full
+    out = simulate_ram(dict(FREE, tau1=tau1), dict(mass=m, k=k, e=1.0),
+                       [(0.0, "strike", V0)], np.array([math.pi / omega]))
+    assert _event_times(out, "pipe breaks away +")[0] == pytest.approx(
+        math.asin(hold / peak) / omega, rel=1e-9)
+
+
 def _random_case(rng):
     params = dict(tau1=float(rng.choice([0.0, rng.uniform(0.0, 3e4)])),
                   tau2=float(rng.choice([0.0, rng.uniform(0.0, 2e5)])),

@@ -503,19 +503,23 @@ def first_crossing(c, s, t_max, immediate):
     start with ``s f(0) <= 0``: ``immediate`` (a force at a friction limit) returns 0 when the
     first part goes on past the limit; otherwise (a velocity or a compression starting at its
     event's value, as the piece's modes chose) a first part going the other way is round-off.
+    Which way the first part goes is read at its own end (the first critical point, or the end
+    of the window where ``f`` can vanish), never at ``t_max``: a search cut short (``t_max``
+    0 when a strike starts where the last search ended) decides as a longer one.
     """
     c0, c1, c2, c3, w = c
     if not t_max >= 0.0:
         return _INF
     amp = (math.hypot(c2, c3 / w) + ulp(abs(c0) + abs(c2))) * (1.0 + 1e-9)
     mid = c0 + c2
-    lo, hi = 0.0, t_max
+    lo, hi, window = 0.0, t_max, _INF
     if c1 == 0.0:
         if abs(mid) > amp:
             return _INF
     else:
         ta, tb = (-amp - mid) / c1, (amp - mid) / c1
-        lo, hi = max(lo, min(ta, tb)), min(hi, max(ta, tb))
+        window = max(ta, tb)
+        lo, hi = max(lo, min(ta, tb)), min(hi, window)
         if lo > hi:
             return _INF
     a = lo
@@ -531,12 +535,14 @@ def first_crossing(c, s, t_max, immediate):
     i = 2 * int(math.floor((w * lo - base - spread) / _TWO_PI))
     while True:
         b = hi
+        end = window                  # the end of the monotone part from a
         if not monotone:
             while True:
                 x = base + (spread if i % 2 else -spread) + _TWO_PI * (i // 2)
                 i += 1
                 if x / w > a:
                     break
+            end = min(end, x / w)
             if x / w < hi:
                 b = x / w
         fb = s * line_and_sine(c, b)[0]
@@ -547,7 +553,8 @@ def first_crossing(c, s, t_max, immediate):
                 return refine_root(LINE_AND_SINE, c, 0.0, 0.0, 0.0, a, b, 0.0)
             if not first:
                 return a
-            if immediate:
+            if immediate and (b == end or end == _INF
+                              or s * line_and_sine(c, end)[0] <= 0.0):
                 return 0.0
         first = False
         if b >= hi:
