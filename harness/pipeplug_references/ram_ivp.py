@@ -310,7 +310,7 @@ def _hidden_levels(evs, sol, t, y, t_end, y_end, name):
         for a, b, ga, gb in zip(bounds[:-1], bounds[1:], g[:-1], g[1:]):
             if not event.direction * ga < 0.0 or event.direction * gb < 0.0:
                 continue
-            root = b if gb == 0.0 else brentq(lambda tt: event(tt, at(tt)), a, b, xtol=1e-300,
+            root = b if gb == 0.0 else brentq(lambda tt, ev=event: ev(tt, at(tt)), a, b, xtol=1e-300,
                                               rtol=4.0 * np.finfo(float).eps)
             if root < best[0]:
                 best = (root, event.name)
