@@ -85,7 +85,7 @@ def main(args: argparse.Namespace) -> int:
         setup = Setup(paths, fmu=_fmu(args) if plan.fmu else None)
         indices = range(args.start, args.start + args.cases)
         summary, seconds, workers = _on_dask(args, indices, plan, setup, out)
-        shown = paths if args.model == "rigid" else tuple(ELASTIC_PATHS)
+        shown = tuple(ELASTIC_PATHS) if args.model == "elastic" else paths
         title = (f"pipeplug fuzz --model {args.model} --seed {args.seed} --start {args.start} "
                  f"--cases {args.cases} (paths: {', '.join(shown)})")
         table = f"{title}\n{summary.table(seconds, workers)}"

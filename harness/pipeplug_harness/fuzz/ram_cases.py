@@ -82,7 +82,8 @@ def generate_ram(seed: int, index: int, plan: Plan = _PLAN) -> RamCase:
                   cushion_restitution=restitution)
     grids = {name: tuple(sorted(set(grid) | {t for t, _ in strikes}))
              for name, grid in base.grids.items()}
-    base = replace(base, growth=False, params=params, grids=grids)
+    base = replace(base, growth=False, params=params, grids=grids,
+                   checks=tuple(c for c in base.checks if c != "fd"))   # fd refuses a ram
     return RamCase(base, strikes)
 
 
