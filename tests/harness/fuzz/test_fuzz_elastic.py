@@ -8,6 +8,7 @@ import re
 
 import numpy as np
 import pytest
+from fuzz_helpers import count
 
 import pipeplug.elastic.vectorised as vectorised
 from pipeplug import Options, Params
@@ -49,12 +50,6 @@ def test_edges_and_samples_are_grid_points_every_grid_holds():
         assert "fd" not in case.checks
 
 
-def _count(pattern: str, text: str) -> int:
-    match = re.search(pattern, text)
-    assert match, text
-    return int(match.group(1))
-
-
 @pytest.mark.parametrize("seed", [201, 202])
 def test_fuzz_finds_no_failure(pipeplug_cli, fmu_dir, seed):
     cases = 150
@@ -64,8 +59,8 @@ def test_fuzz_finds_no_failure(pipeplug_cli, fmu_dir, seed):
     text = proc.stdout
     print(text)
     assert proc.returncode == 0, text + proc.stderr
-    assert _count(r"cases: (\d+)", text) == cases
-    assert _count(r"failing cases: (\d+)", text) == 0
+    assert count(r"cases: (\d+)", text) == cases
+    assert count(r"failing cases: (\d+)", text) == 0
     for check in ("ledger [compiled]", "energies [compiled]", "grid [compiled]",
                   "bound [compiled]", "friction work [compiled]", "paths [numpy]",
                   "rod reference [compiled]", "fmu [fmu t+=h]", "fmu [fmu t=k*h]"):

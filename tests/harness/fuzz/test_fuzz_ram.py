@@ -5,6 +5,8 @@ from __future__ import annotations
 import json
 import re
 
+from fuzz_helpers import count
+
 from pipeplug import build_model
 from pipeplug_harness.fuzz.cases import Plan
 from pipeplug_harness.fuzz.engine import fuzz
@@ -31,12 +33,6 @@ def test_a_case_depends_on_seed_and_index_only_round_trips_and_replays(tmp_path)
     assert load_failure(path)[0] == a
 
 
-def _count(pattern: str, text: str) -> int:
-    match = re.search(pattern, text)
-    assert match, text
-    return int(match.group(1))
-
-
 def test_fuzz_finds_no_failure(pipeplug_cli, fmu_dir):
     cases = 60
     proc = pipeplug_cli("fuzz", "--model", "ram", "--seed", 301, "--cases", cases,
@@ -45,8 +41,8 @@ def test_fuzz_finds_no_failure(pipeplug_cli, fmu_dir):
     text = proc.stdout
     print(text)
     assert proc.returncode == 0, text + proc.stderr
-    assert _count(r"cases: (\d+)", text) == cases
-    assert _count(r"failing cases: (\d+)", text) == 0
+    assert count(r"cases: (\d+)", text) == cases
+    assert count(r"failing cases: (\d+)", text) == 0
     for check in ("ram ledger [compiled]", "ram energies [compiled]", "grid [compiled]",
                   "friction work [compiled]", "reference [python]", "paths [compiled]",
                   "fmu [fmu t+=h]", "fmu [fmu t=k*h]"):

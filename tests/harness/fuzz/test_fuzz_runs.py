@@ -8,14 +8,9 @@ from __future__ import annotations
 import re
 
 import pytest
+from fuzz_helpers import count
 
 RUNS = [(101, 1200), (102, 1200), (103, 1200)]        # (seed, cases)
-
-
-def _count(pattern: str, text: str) -> int:
-    match = re.search(pattern, text)
-    assert match, text
-    return int(match.group(1))
 
 
 @pytest.mark.parametrize("seed, cases", RUNS)
@@ -27,11 +22,11 @@ def test_fuzz_finds_no_failure(pipeplug_cli, fmu_dir, seed, cases):
     text = proc.stdout
     print(text)                                             # the counts, in the test log
     assert proc.returncode == 0, text + proc.stderr
-    assert _count(r"cases: (\d+)", text) == cases
-    assert _count(r"against the reference: (\d+)", text) == cases // 10
-    assert _count(r"through the FMU: (\d+)", text) == cases // 20
-    assert _count(r"fd: (\d+)", text) == cases // 400
-    assert _count(r"failing cases: (\d+)", text) == 0
+    assert count(r"cases: (\d+)", text) == cases
+    assert count(r"against the reference: (\d+)", text) == cases // 10
+    assert count(r"through the FMU: (\d+)", text) == cases // 20
+    assert count(r"fd: (\d+)", text) == cases // 400
+    assert count(r"failing cases: (\d+)", text) == 0
     for check in ("reference [python]", "grid [python]", "energy [python]", "reference [compiled]",
                   "grid [compiled]", "energy [compiled]",
                   "fmu [fmu t+=h]", "fmu [fmu t=k*h]", "reference [fmu t=k*h]", "fd bound [fd]"):
