@@ -67,7 +67,7 @@ from .record import (
 )
 
 __all__ = ["AT_REST", "PLUG_SLIDES", "TOGETHER", "BOTH_SLIDE", "PIPE_REST", "PLUG_REST", "STICK",
-           "SEGMENT", "BREAKAWAY_POS", "BREAKAWAY_NEG", "make_piece", "kinematics",
+           "SEGMENT", "BREAKAWAY_POS", "BREAKAWAY_NEG", "make_piece", "contact_modes", "kinematics",
            "forces_of",
            "friction_work_of", "find_event", "pipe_of", "plug_of", "law_of"]
 
@@ -107,18 +107,21 @@ def _sign(x):
 
 
 @jitable
-def make_piece(st, par, t0, u1, v1, u2, v2, q, kick):
-    """Decide the contact modes at the origin ``(u1, v1, u2, v2)`` [m, m/s] at time ``t0`` [s]
-    under the force ``q`` [N] and write the piece into ``st``.
+def contact_modes(par, m1, q, u1, v1, v2, kick, kick1):
+    """The contact modes ``(s1, s2)`` at an origin and the static and sliding friction forces
+    ``(f1s, f2s, f1_sliding, f2_sliding)`` [N] under the force ``q`` [N] on a pipe of mass
+    ``m1`` [kg] (with a riding ram, the ram's too).
 
     The modes of sliding contacts are kept; stuck ones are decided by solving both contacts
-    jointly (:func:`~pipeplug.contact.coulomb.two_contacts`) under the sliding forces. ``kick``
-    (-1, 0, 1) makes a stuck plug break away in that direction.
+    jointly (:func:`~pipeplug.contact.coulomb.two_contacts`) under the sliding forces.
+    ``kick1`` (-1, 0, 1) makes a stuck pipe slide in that direction, ``kick`` a stuck plug.
     """
-    m1, m2, f2_limit = par[P_M1], par[P_M2], par[P_F2]
+    m2, f2_limit = par[P_M2], par[P_F2]
     coupled = par[P_COUPLED] != 0.0
     law = law_of(par)
     s1 = _sign(v1)
+    if s1 == 0:
+        s1 = kick1
     s2 = _sign(v1 - v2) if coupled else 0
     c1 = limit(law, u1)
     f1_sliding = -s1 * c1 if s1 != 0 else 0.0
@@ -138,6 +141,18 @@ def make_piece(st, par, t0, u1, v1, u2, v2, q, kick):
         s1 = p1
     if s2 == 0:
         s2 = kick if kick != 0 else p2
+    return s1, s2, f1s, f2s, f1_sliding, f2_sliding
+
+
+@jitable
+def make_piece(st, par, t0, u1, v1, u2, v2, q, kick):
+    """Decide the contact modes at the origin ``(u1, v1, u2, v2)`` [m, m/s] at time ``t0`` [s]
+    under the force ``q`` [N] (:func:`contact_modes`; ``kick`` (-1, 0, 1) makes a stuck plug
+    break away in that direction) and write the piece into ``st``."""
+    m1, m2, f2_limit = par[P_M1], par[P_M2], par[P_F2]
+    coupled = par[P_COUPLED] != 0.0
+    law = law_of(par)
+    s1, s2, f1s, f2s, f1_sliding, f2_sliding = contact_modes(par, m1, q, u1, v1, v2, kick, 0)
     st[T0], st[U1], st[V1], st[U2], st[V2] = t0, u1, v1, u2, v2
     st[S1], st[S2] = float(s1), float(s2)
     st[A1] = st[K1] = st[W1] = st[A2] = st[K2] = st[W2] = 0.0     # at rest until set

@@ -50,7 +50,6 @@ from __future__ import annotations
 
 import math
 
-from ..contact.coulomb import SLACK, one_contact, two_contacts
 from ..contact.outer import limit, segment
 from ..jit import jitable
 from .motion import LINE_AND_SINE, line_and_sine, motion, refine_root, time_to_rest, travel, ulp
@@ -61,6 +60,7 @@ from .pieces import (
     PLUG_SLIDES,
     STICK,
     TOGETHER,
+    contact_modes,
     find_event,
     forces_of,
     law_of,
@@ -145,52 +145,10 @@ def cushion_force(delta, delta_max, k, k_unload):
     return max(0.0, min(k * delta, k * delta_max - k_unload * (delta_max - delta)))
 
 
-@jitable
-def _sign(x):
-    if x > 0.0:
-        return 1
-    if x < 0.0:
-        return -1
-    return 0
-
-
 @jitable(inline=True)
 def rel_of(st):
     """The compression's motion in the current piece (:mod:`~pipeplug.rigid.motion`)."""
     return st[D0], st[DV], st[DA], st[DK], st[DW]
-
-
-@jitable
-def _modes(par, m1, q, u1, v1, v2, kick, kick1):
-    """The contact modes ``(s1, s2)`` at an origin and the static and sliding friction forces
-    ``(f1s, f2s, f1_sliding, f2_sliding)`` [N] under the load ``q`` [N] (the cushion's force
-    included) for a pipe of mass ``m1`` [kg] (with a riding ram): the decision of
-    :func:`~pipeplug.rigid.pieces.make_piece`. ``kick1`` (-1, 0, 1) makes a stuck pipe slide in
-    that direction (the cushion's force reached the soil's hold), ``kick`` a stuck plug."""
-    m2, f2_limit = par[P_M2], par[P_F2]
-    coupled = par[P_COUPLED] != 0.0
-    law = law_of(par)
-    s1 = _sign(v1)
-    if s1 == 0:
-        s1 = kick1
-    s2 = _sign(v1 - v2) if coupled else 0
-    c1 = limit(law, u1)
-    f1_sliding = -s1 * c1 if s1 != 0 else 0.0
-    f2_sliding = -s2 * f2_limit
-    w1 = (q + f1_sliding + f2_sliding) / m1
-    w2 = -f2_sliding / m2 if coupled else 0.0
-    c1_static = 0.0 if s1 != 0 else c1
-    c2_static = 0.0 if s2 != 0 else f2_limit
-    if coupled:
-        _, _, f1s, f2s, p1, p2 = two_contacts(m1, m2, w1, w2, c1_static, c2_static, 0.0)
-    else:
-        x1, f1s = one_contact(m1, w1, c1_static, SLACK * (abs(m1 * w1) + c1_static))
-        p1, p2, f2s = _sign(x1), 0, 0.0
-    if s1 == 0:
-        s1 = p1
-    if s2 == 0:
-        s2 = kick if kick != 0 else p2
-    return s1, s2, f1s, f2s, f1_sliding, f2_sliding
 
 
 @jitable
@@ -228,12 +186,12 @@ def make_ram_piece(st, par, t0, u1, v1, u2, v2, q, kick):
     if not cushion and delta == 0.0 and vr == v1:
         # Touching without closing: the ram rides when the pipe alone would slow down (it
         # presses on the ram), else the pipe leaves it.
-        s1, s2, _, _, _, _ = _modes(par, m1, q, u1, v1, v2, kick, kick1)
+        s1, s2, _, _, _, _ = contact_modes(par, m1, q, u1, v1, v2, kick, kick1)
         if s1 != 0:
             g, mass = _sliding_load(par, q, u1, s1, s2, m1)
             riding = g / mass < 0.0
     m_pipe = m1 + mr if riding else m1
-    s1, s2, f1s, f2s, f1_sliding, f2_sliding = _modes(par, m_pipe, q + fc, u1, v1, v2, kick,
+    s1, s2, f1s, f2s, f1_sliding, f2_sliding = contact_modes(par, m_pipe, q + fc, u1, v1, v2, kick,
                                                       kick1)
     st[T0], st[U1], st[V1], st[U2], st[V2] = t0, u1, v1, u2, v2
     st[S1], st[S2] = float(s1), float(s2)
