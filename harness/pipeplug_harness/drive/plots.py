@@ -10,15 +10,24 @@ from pipeplug_harness import io
 from .report import INTERVAL, blows_per_interval
 from .run import OUTCOMES, DriveResult
 
-__all__ = ["plot_penetration", "plot_drivability"]
+__all__ = ["plot_penetration", "plot_drivability", "describe_blow"]
+
+
+def describe_blow(spec) -> str:
+    """The blow in the file's terms: the rectangle, or the ram that strikes."""
+    hammer = spec.hammer
+    if hammer is None:
+        return f"{spec.amplitude:.4g} N x {spec.duration:.3g} s"
+    return (f"ram {hammer.ram_mass:.4g} kg at {hammer.v_strike:.3g} m/s, "
+            f"{hammer.efficiency:.3g} x {hammer.rated_energy:.4g} J")
 
 
 def _title(result: DriveResult) -> str:
     spec = result.spec
     model = "elastic" if spec.elastic else "rigid"
-    return (f"{spec.name} ({model}, {spec.amplitude:.4g} N x {spec.duration:.3g} s, "
-            f"{60.0 / spec.period:.4g} blows/min)\n{OUTCOMES[result.outcome]} after "
-            f"{len(result.blows)} blows at {result.penetration:.4g} m")
+    return (f"{spec.name} ({model}, {describe_blow(spec)}, {60.0 / spec.period:.4g} blows/min)\n"
+            f"{OUTCOMES[result.outcome]} after {len(result.blows)} blows at "
+            f"{result.penetration:.4g} m")
 
 
 def plot_penetration(path: Path, result: DriveResult) -> Path:

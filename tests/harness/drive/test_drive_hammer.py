@@ -8,6 +8,7 @@ import pytest
 from drive_helpers import toml_text
 
 from pipeplug_harness.drive.file import load_drive
+from pipeplug_harness.drive.plots import describe_blow
 from pipeplug_harness.drive.report import summary
 from pipeplug_harness.drive.run import run_drive_on_core
 from pipeplug_harness.errors import UserError
@@ -36,6 +37,8 @@ def test_the_hammer_in_an_engineers_terms(tmp_path):
     assert spec.yield_stress == 2.41e8
     # the contact's length: the cushion's half period on a fixed head, pi sqrt(m / k)
     assert spec.duration == pytest.approx(math.pi * math.sqrt(2000.0 / 2e9), rel=1e-12)
+    # the figures name the ram, not a rectangle of 0 N
+    assert describe_blow(spec) == "ram 2000 kg at 4.5 m/s, 0.5 x 4.05e+04 J"
 
 
 @pytest.mark.parametrize("sections, match", [
