@@ -44,7 +44,7 @@ class StateHandling:
             model = None
             if phase in RUNNING:
                 model = self._build({n: values[n] for n, v in self._by_name.items()
-                                     if v.causality == "parameter"})
+                                     if v.causality in ("parameter", "structuralParameter")})
                 self._load(model, state["model"])
         except Exception as exc:
             self._fail(self._call(f"Set{self.STATE}"), exc)
