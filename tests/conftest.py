@@ -44,3 +44,9 @@ def hammer_dir(hammer_file, tmp_path_factory) -> Path:
     with zipfile.ZipFile(hammer_file) as zf:
         zf.extractall(target)
     return target
+
+
+@pytest.fixture(scope="session")
+def fmi3_files(fmu_file) -> dict:
+    """The FMI 3.0 PipePlug.fmu and Hammer.fmu of the same build (``fmi3/`` beside it)."""
+    return {name: fmu_file.parent / "fmi3" / f"{name}.fmu" for name in ("PipePlug", "Hammer")}

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 
-from .interface import Model
+from .interface import PROFILE_POINTS, Model
 from .options import Options
 from .params import ParameterError, Params
 
@@ -16,7 +16,7 @@ __all__ = ["build_model"]
 
 def build_model(params: Params | Mapping[str, float] | None = None,
                 options: Options | Mapping[str, object] | None = None, *,
-                compiled: bool = True) -> Model:
+                compiled: bool = True, profile_points: int = 0) -> Model:
     """Validate parameters and options and build the model they call for.
 
     Parameters
@@ -29,6 +29,9 @@ def build_model(params: Params | Mapping[str, float] | None = None,
         The exact rigid solver runs compiled by numba when it is installed (default), or as
         plain Python (``False``: no numba import, which a short run may not repay). The elastic
         kernels are compiled whenever numba is available; ``PIPEPLUG_NO_JIT=1`` turns both off.
+    profile_points : int, optional
+        Sections of the profiles (:data:`~pipeplug.interface.PROFILES`, ``model.profiles()``):
+        0 (default) for none, else within :data:`~pipeplug.interface.PROFILE_POINTS`.
 
     Returns
     -------
@@ -45,16 +48,29 @@ def build_model(params: Params | Mapping[str, float] | None = None,
     if not isinstance(params, Params):
         params = Params.from_mapping(params or {})
     params.validate(options.active_groups())
+    _check_profile_points(profile_points)
     if params.has_ram and not options.elastic:
         _check_rigid_ram(params, options)
     if options.elastic:
         from .elastic.model import ElasticModel
-        return ElasticModel(params, options)
+        return ElasticModel(params, options, profile_points=profile_points)
     if options.solver == "fd":
         from .rigid.fd import RigidFd
-        return RigidFd(params, options)
-    from .rigid.exact import RigidExact
-    return RigidExact(params, options, compiled)
+        model = RigidFd(params, options)
+    else:
+        from .rigid.exact import RigidExact
+        model = RigidExact(params, options, compiled)
+    if profile_points:
+        from .rigid.stress import RigidProfiles
+        model._profiler = RigidProfiles(params, options.contact_growth, profile_points)
+    return model
+
+
+def _check_profile_points(n) -> None:
+    """Refuse a number of profile sections outside :data:`PROFILE_POINTS` (0: none)."""
+    _, lower, upper = PROFILE_POINTS
+    if type(n) is not int or not (n == 0 or lower <= n <= upper):
+        raise ParameterError("profile_points", n, f"an integer >= {lower} and <= {upper}")
 
 
 def _check_rigid_ram(params: Params, options: Options) -> None:

@@ -22,7 +22,7 @@ import numpy as np
 from .params import ParameterError
 
 __all__ = ["Output", "OUTPUTS", "OUTPUT_NAMES", "PER_STEP", "Outputs", "Model", "ModelBase",
-           "LEDGER_SOURCES",
+           "LEDGER_SOURCES", "Profile", "PROFILES", "PROFILE_POINTS", "profile_sections",
            "LEDGER_TERMS", "ledger_residual"]
 
 
@@ -106,6 +106,39 @@ def ledger_residual(values) -> float:
     get = values.__getitem__ if isinstance(values, dict) else (lambda n: getattr(values, n))
     return (sum(get(n) for n in LEDGER_SOURCES) - sum(get(n) for n in LEDGER_TERMS))
 
+#: The profiles along the rods (array outputs of ``profile_points`` elements; the FMI 3.0 FMU's):
+#: element k is what the scalar output of the same quantity gives with x_monitor at section k
+#: (:func:`profile_sections`), bit for bit; rigid models: uniform motion and the axial stress
+#: of the rigid body's equilibrium.
+class Profile(NamedTuple):
+    """One row of the profile table."""
+
+    name: str
+    unit: str
+    meaning: str
+
+
+PROFILES: tuple[Profile, ...] = (
+    Profile("v_pipe_profile", "m/s", "pipe velocity at the sections x_k = k L1 / (n - 1)"),
+    Profile("u_pipe_profile", "m", "pipe displacement at the sections x_k = k L1 / (n - 1)"),
+    Profile("stress_pipe_profile", "Pa", "axial stress of the pipe at the sections x_k = k L1 "
+                                         "/ (n - 1), compression negative"),
+    Profile("v_plug_profile", "m/s", "plug velocity at the sections L1 - L2 + k L2 / (n - 1) "
+                                     "over the plug (0 when no plug is simulated)"),
+)
+
+#: The number of sections of the profiles: (default, smallest, largest).
+PROFILE_POINTS = (11, 2, 100_000)
+
+
+def profile_sections(L1: float, L2: float, n: int) -> tuple[np.ndarray, np.ndarray]:
+    """The reference sections [m] of the pipe profiles, x_k = k L1 / (n - 1), and of the plug
+    profile, L1 - L2 + k L2 / (n - 1), k = 0 .. n-1 (each the x_monitor that gives element k)."""
+    pipe = np.array([k * L1 / (n - 1) for k in range(n)])
+    plug = np.array([(L1 - L2) + k * L2 / (n - 1) for k in range(n)])
+    return np.minimum(pipe, L1), np.minimum(plug, L1)
+
+
 _TYPES = {"Real": float, "Integer": int, "Boolean": bool}
 Outputs = NamedTuple("Outputs", [(o.name, _TYPES[o.kind]) for o in OUTPUTS])
 Outputs.__doc__ = "The outputs at the model's current time, SI units (see :data:`OUTPUTS`)."
@@ -157,6 +190,14 @@ class ModelBase:
     """
 
     time: float
+    _profiler = None     # set by build_model(profile_points=n): model -> the PROFILES arrays
+
+    def profiles(self) -> tuple[np.ndarray, ...]:
+        """The arrays of :data:`PROFILES` at the current time (the model must have been built
+        with ``profile_points``)."""
+        if self._profiler is None:
+            raise ValueError("this model was built without profile_points")
+        return self._profiler(self)
 
     def strike(self, velocity: float) -> None:
         """Start a strike of the ram at ``velocity`` [m/s]; a model with a ram overrides this.

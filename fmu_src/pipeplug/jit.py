@@ -171,6 +171,8 @@ def _install_cache_locator() -> None:
     class PipeplugCacheLocator(caching._CacheLocator):
         """numba cache locator keyed by source content; the source file need not exist."""
 
+        package = _PACKAGE        # each copy of the core (FMU builds, FMI versions) has its own
+
         def __init__(self, py_func, py_file):
             self._py_file = py_file
             self._lineno = py_func.__code__.co_firstlineno
@@ -198,5 +200,5 @@ def _install_cache_locator() -> None:
             return self
 
     locators = impl._locator_classes
-    if not any(c.__name__ == PipeplugCacheLocator.__name__ for c in locators):
+    if not any(getattr(c, "package", None) == _PACKAGE for c in locators):
         locators.insert(0, PipeplugCacheLocator)

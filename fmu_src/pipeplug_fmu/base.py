@@ -1,4 +1,4 @@
-"""The FMI 2.0 co-simulation base of the project's FMUs (PipePlug and Hammer) on pythonfmu 0.7.
+"""The FMI co-simulation base of the project's FMUs (PipePlug and Hammer), FMI 2.0 and 3.0.
 
 One base, as the Reference-FMUs share one ``fmi2Functions.c``: it holds the variables' values,
 the FMI 2.0 call sequence (:mod:`~pipeplug_fmu.sequence`), every refusal and the FMU state
@@ -12,7 +12,15 @@ the FMI 2.0 call sequence (:mod:`~pipeplug_fmu.sequence`), every refusal and the
 * ``_save(model)`` / ``_load(model, saved)``: the model's own state (copies), and its restore;
 * optionally ``_refresh()``: outputs that depend on values set before initialization.
 
-The call sequence is FMI 2.0's for co-simulation (``Phase``): fmi2SetupExperiment and
+What differs between FMI versions is a binding mixed in after the slave: :mod:`pipeplug_fmu.fmi2`
+(pythonfmu 0.7) and :mod:`pipeplug_fmu.fmi3` (pythonfmu3). It declares each variable to its
+library (:meth:`FmiBase._declare`), maps the getters and setters of its FMI types onto
+:meth:`FmiBase._get` and :meth:`FmiBase._set`, and names the calls in refusals (``fmi2DoStep``,
+``fmi3DoStep``). This module imports neither library.
+
+The call sequence is FMI 2.0's for co-simulation (``Phase``; FMI 3.0's co-simulation without
+event mode maps onto it, its start and stop time coming with fmi3EnterInitializationMode and
+structural parameters settable with the parameters): fmi2SetupExperiment and
 fmi2EnterInitializationMode in "instantiated", fmi2ExitInitializationMode in
 "initialization mode", fmi2DoStep and fmi2Terminate in "stepping"; parameters may be set before
 initialization, inputs also while stepping, nothing after fmi2Terminate; values may be read in
@@ -38,17 +46,15 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from pythonfmu import Boolean, Fmi2Slave, Integer, Real, String
-from pythonfmu.enums import Fmi2Status
-
-from .fmi import decorate_model_description, refusal
+from .fmi import refusal
 from .fmu_state import StateHandling, conformity
-from .pythonfmu07 import NOT_UTF8, Refusal, escape_percent, outlive_the_exception, value_reference
+from .pythonfmu07 import NOT_UTF8, Refusal, outlive_the_exception, value_reference
 from .sequence import TIME_TOLERANCE, Discard, Phase, Refuse, all_finite, stop_limit
 
-__all__ = ["FmiBase", "Phase", "Refuse", "Discard", "TIME_TOLERANCE", "conformity"]
+__all__ = ["FmiBase", "Phase", "Refuse", "Discard", "TIME_TOLERANCE", "conformity", "Variable"]
 
-_TYPES = {"Real": Real, "Integer": Integer, "Boolean": Boolean, "String": String}
+#: The project's value kinds (FMI 2.0 names; UInt64 only in FMI 3.0).
+KINDS = ("Real", "Integer", "Boolean", "String", "UInt64")
 _STEPPING = Phase.STEPPING
 
 
@@ -58,23 +64,33 @@ class Variable:
 
     vr: int
     name: str
-    kind: str                     # "Real", "Integer", "Boolean" or "String"
-    causality: str                # "input", "output" or "parameter"
+    kind: str                     # one of KINDS
+    causality: str                # "input", "output", "parameter" or "structuralParameter"
     unit: str | None
     bounds: tuple                 # (min, max) for modelDescription.xml, None where absent
     allowed: str
+    size_of: int | None = None    # an array sized by this structural parameter's value
 
 
-class FmiBase(StateHandling, Fmi2Slave):
+class FmiBase(StateHandling):
     """The FMI side of a slave (see the module docstring); subclasses set
-    :attr:`model_identifier`, register variables in ``_register`` and supply the hooks."""
+    :attr:`model_identifier`, register variables in ``_register`` and supply the hooks; a
+    binding supplies what belongs to its FMI version."""
 
     #: The FMU's modelIdentifier (its slave class's name).
     model_identifier = ""
+    # The binding (after this class in the FMU class's bases, so nothing here may shadow it)
+    # supplies: FMI (its calls' prefix, "fmi2"), SEQUENCE (its call sequence in words), DISCARD
+    # (its status of a discarded step), STATE ("FMUstate" or "FMUState", as in its calls), ARRAYS
+    # (whether array variables exist),
+    # TYPE_NAMES (its type name by kind, for call names), _escape(line) (a line as its library
+    # hands it to the host), _experiment (its DefaultExperiment),
+    # _declare(var, meaning, getter, variability, initial) (register a variable with it) and
+    # _register_binding() (register the variables its version requires, after the slave's).
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        self._tables = {kind: {} for kind in _TYPES}       # kind -> {value reference: value}
+        self._tables = {kind: {} for kind in KINDS}       # kind -> {value reference: value}
         self._variables: list[Variable] = []                 # by value reference
         self._phase = Phase.INSTANTIATED      # changed by _enter() only
         self._time = 0.0                  # the FMU's own time [s]
@@ -82,6 +98,7 @@ class FmiBase(StateHandling, Fmi2Slave):
         self._stop_limit = math.inf       # the last end of a step accepted [s]
         self._model = None                # built at fmi2ExitInitializationMode
         self._register()
+        self._register_binding()
         self._index()
         self._refresh()
 
@@ -91,24 +108,29 @@ class FmiBase(StateHandling, Fmi2Slave):
         raise NotImplementedError
 
     def _add(self, kind, name, start, unit, meaning, causality, variability, initial=None,
-             bounds=(None, None), allowed="") -> int:
-        """Register one variable of FMI type ``kind``; its value reference."""
+             bounds=(None, None), allowed="", size_of=None) -> int:
+        """Register one variable of kind ``kind`` (:data:`KINDS`; causality, variability and
+        initial by their FMI names; ``size_of``: the value reference of the structural
+        parameter giving an array's length); its value reference."""
         vr = len(self.vars)
         table = self._tables[kind]
         table[vr] = start
-        self._variables.append(Variable(vr, name, kind, causality.name, unit, bounds, allowed))
-        extra = {} if initial is None else {"initial": initial}
-        self.register_variable(_TYPES[kind](name, description=meaning, getter=lambda: table[vr],
-                                            causality=causality, variability=variability,
-                                            **extra))
+        var = Variable(vr, name, kind, causality, unit, bounds, allowed, size_of)
+        self._variables.append(var)
+        self._declare(var, meaning, lambda: table[vr], variability, initial)
         return vr
+
+    def _call(self, name: str) -> str:
+        """The FMI function ``name`` of this version (``DoStep`` -> ``fmi2DoStep``)."""
+        return self.FMI + name
 
     def _index(self) -> None:
         """Which value references each phase lets be set, and where the outputs go."""
         inputs = [v for v in self._variables if v.causality == "input"]
-        early = inputs + [v for v in self._variables if v.causality == "parameter"]
+        early = inputs + [v for v in self._variables
+                          if v.causality in ("parameter", "structuralParameter")]
         self._settable = {
-            phase: {kind: frozenset(v.vr for v in group if v.kind == kind) for kind in _TYPES}
+            phase: {kind: frozenset(v.vr for v in group if v.kind == kind) for kind in KINDS}
             for phase, group in ((Phase.INSTANTIATED, early), (Phase.INITIALIZATION, early),
                                  (Phase.STEPPING, inputs), (Phase.TERMINATED, []))}
         self._output_slots = tuple((self._tables[v.kind], v.vr) for v in self._variables
@@ -144,9 +166,10 @@ class FmiBase(StateHandling, Fmi2Slave):
         """Update outputs that depend on values set before initialization (default: none)."""
 
     # FMI calls: the sequence ------------------------------------------------------------------
-    def setup_experiment(self, start_time, stop_time=None, tolerance=None):
+    def _setup(self, call, start_time, stop_time=None):
+        """The experiment's start and stop time [s] (FMI 2.0: fmi2SetupExperiment)."""
         try:
-            self._expect("fmi2SetupExperiment", Phase.INSTANTIATED)
+            self._expect(call, Phase.INSTANTIATED)
             if not math.isfinite(start_time):
                 raise Refuse.of("startTime", start_time, "finite [s]")
             if stop_time is not None and not (math.isfinite(stop_time)
@@ -157,35 +180,38 @@ class FmiBase(StateHandling, Fmi2Slave):
             self._stop_limit = stop_limit(stop_time)
             self._refresh()
         except Exception as exc:
-            self._fail("fmi2SetupExperiment", exc)
+            self._fail(call, exc)
 
     def enter_initialization_mode(self):
+        call = self._call("EnterInitializationMode")
         try:
-            self._expect("fmi2EnterInitializationMode", Phase.INSTANTIATED)
+            self._expect(call, Phase.INSTANTIATED)
             self._enter(Phase.INITIALIZATION)
         except Exception as exc:
-            self._fail("fmi2EnterInitializationMode", exc)
+            self._fail(call, exc)
 
     def exit_initialization_mode(self):
+        call = self._call("ExitInitializationMode")
         try:
-            self._expect("fmi2ExitInitializationMode", Phase.INITIALIZATION)
+            self._expect(call, Phase.INITIALIZATION)
             self._model = self._build(self._named_values())
             self._enter(Phase.STEPPING)
             self._refresh()
         except Exception as exc:
-            self._fail("fmi2ExitInitializationMode", exc)
+            self._fail(call, exc)
 
     def terminate(self):
+        call = self._call("Terminate")
         try:
-            self._expect("fmi2Terminate", Phase.STEPPING)
+            self._expect(call, Phase.STEPPING)
             self._enter(Phase.TERMINATED)
         except Exception as exc:
-            self._fail("fmi2Terminate", exc)
+            self._fail(call, exc)
 
     def do_step(self, current_time, step_size):
         try:
             if self._phase is not _STEPPING:
-                self._expect("fmi2DoStep", _STEPPING)
+                self._expect(self._call("DoStep"), _STEPPING)
             t, end = self._time, current_time + step_size
             # Written so that NaN fails every test: ``not (x <= bound)`` rather than ``x > bound``.
             if not (abs(current_time - t) <= TIME_TOLERANCE * max(1.0, abs(t))
@@ -198,13 +224,15 @@ class FmiBase(StateHandling, Fmi2Slave):
                 finite = True
             except ValueError:                     # inf - inf
                 finite = False
+            except TypeError:                      # array outputs (FMI 3.0)
+                finite = all_finite(_flat(out))
             if not finite:
                 raise Refuse(self._not_finite(out, current_time, step_size))
         except Discard as exc:
-            self.log(escape_percent(exc.line), Fmi2Status.discard)
+            self.log(self._escape(exc.line), self.DISCARD)
             return False
         except Exception as exc:
-            self._fail("fmi2DoStep", exc)
+            self._fail(self._call("DoStep"), exc)
         for (table, vr), value in zip(self._output_slots, out):
             table[vr] = value
         self._time = end                # the host's point: the contract's rule
@@ -228,58 +256,38 @@ class FmiBase(StateHandling, Fmi2Slave):
     def _not_finite(self, out, t, h) -> str:
         """The refusal of a step whose outputs are not all finite (the first one named)."""
         outputs = [v for v in self._variables if v.causality == "output"]
-        name, value = next((v.name, x) for v, x in zip(outputs, out) if not all_finite((x,)))
+        name, value = next((v.name, x) for v, x in zip(outputs, out)
+                           if not all_finite(_flat((x,))))
         return refusal(name, value, f"finite; the step from t = {t!r} s by {h!r} s exceeded "
                                     f"what the model computes (set a saved FMU state or reset)")
 
-    # Getters and setters ------------------------------------------------------------------
-    def get_real(self, vrs):
+    # Getters and setters (the binding's getters and setters of its FMI types call these) -----
+    def _get(self, kind, vrs):
+        """The values of ``vrs`` of ``kind``, array elements in order."""
+        table = self._tables[kind]
         try:
-            return list(map(self._reals.__getitem__, vrs))
+            values = [table[vr] for vr in vrs]
         except Exception:
-            self._refuse_get(vrs, "Real")
-
-    def get_integer(self, vrs):
-        try:
-            return list(map(self._tables["Integer"].__getitem__, vrs))
-        except Exception:
-            self._refuse_get(vrs, "Integer")
-
-    def get_boolean(self, vrs):
-        try:
-            return list(map(self._tables["Boolean"].__getitem__, vrs))
-        except Exception:
-            self._refuse_get(vrs, "Boolean")
-
-    def get_string(self, vrs):
-        try:
-            return list(map(self._tables["String"].__getitem__, vrs))
-        except Exception:
-            self._refuse_get(vrs, "String")
+            self._refuse_get(vrs, kind)
+        if any(type(x) is list for x in values):
+            return list(_flat(values))
+        return values
 
     def _refuse_get(self, vrs, kind):
         table = self._tables[kind]
         bad = next((vr for vr in vrs if vr not in table), None)
-        self._fail(f"fmi2Get{kind}", Refuse.of(
+        self._fail(self._call(f"Get{self.TYPE_NAMES[kind]}"), Refuse.of(
             "valueReference", value_reference(bad) if bad is not None else bad,
-            f"a {kind} variable of {self.model_identifier}"))
+            f"a {self.TYPE_NAMES[kind]} variable of {self.model_identifier}"))
 
-    def set_real(self, vrs, values):
+    def _set_input(self, kind, vrs, values) -> None:
+        """Set ``values``: one input of ``kind`` while stepping (every step: first), else all."""
         if len(vrs) == 1 and vrs[0] in self._real_inputs:
-            self._reals[vrs[0]] = values[0]               # the input, every step: first
+            self._reals[vrs[0]] = values[0]
             if self._phase is not _STEPPING:
                 self._refresh()
             return
-        self._set("Real", vrs, values)
-
-    def set_integer(self, vrs, values):
-        self._set("Integer", vrs, values)
-
-    def set_boolean(self, vrs, values):
-        self._set("Boolean", vrs, values)
-
-    def set_string(self, vrs, values):
-        self._set("String", vrs, values)
+        self._set(kind, vrs, values)
 
     def _set(self, kind, vrs, values):
         """Set all of ``values`` or, refusing the first one that cannot be set, none."""
@@ -292,24 +300,30 @@ class FmiBase(StateHandling, Fmi2Slave):
                                          or value.startswith(NOT_UTF8)):         # P7
                     raise Refuse.of(self._variables[vr].name, _shown(value),
                                     f"UTF-8 text ({self._variables[vr].allowed})")
+                self._check_value(self._variables[vr], value)
             table = self._tables[kind]
             for vr, value in zip(vrs, values):
                 table[vr] = value
             if self._phase is not _STEPPING:
                 self._refresh()
         except Exception as exc:
-            self._fail(f"fmi2Set{kind}", exc)
+            self._fail(self._call(f"Set{self.TYPE_NAMES[kind]}"), exc)
+
+    def _check_value(self, var: Variable, value) -> None:
+        """Refuse a value that can never be set (default: none; ranges are checked at
+        initialization)."""
 
     def _unsettable(self, kind, vr, value) -> Refuse:
-        """Why ``vr`` cannot be set to ``value`` with fmi2Set<kind> now."""
+        """Why ``vr`` cannot be set to ``value`` with its setter now."""
         var = self._variables[vr] if 0 <= vr < len(self._variables) else None
         if var is None or var.kind != kind:
             return Refuse.of("valueReference", value_reference(vr),
-                             f"a settable {kind} variable of {self.model_identifier}")
+                             f"a settable {self.TYPE_NAMES[kind]} variable of "
+                             f"{self.model_identifier}")
         if var.causality == "output":
             return Refuse.of(var.name, value, f"a settable variable ({var.name} is an output)")
         if self._phase is Phase.TERMINATED:
-            return Refuse.of(var.name, value, "no change after fmi2Terminate")
+            return Refuse.of(var.name, value, f"no change after {self._call('Terminate')}")
         return Refuse.of(var.name, value, f"no change after initialization (fixed parameter; "
                                           f"it stays {self._tables[kind][vr]!r})")
 
@@ -318,7 +332,7 @@ class FmiBase(StateHandling, Fmi2Slave):
         """Refuse ``call`` unless the instance is in ``phase``."""
         if self._phase is not phase:
             raise Refuse(f"{call} is not allowed in {self._phase.value}; allowed: in "
-                         f"{phase.value} only (the FMI 2.0 call sequence)")
+                         f"{phase.value} only ({self.SEQUENCE})")
 
     def _fail(self, call: str, exc: Exception):
         """Refuse ``call`` with fmi2Error: the line of a :class:`Refuse`, or what went wrong."""
@@ -327,20 +341,23 @@ class FmiBase(StateHandling, Fmi2Slave):
         line = exc.line if isinstance(exc, Refuse) else (
             f"{call} failed: {type(exc).__name__}: {exc}")
         outlive_the_exception(self)                        # P2
-        raise Refusal(self.model_identifier, escape_percent(line)) from None
+        raise Refusal(self.model_identifier, self._escape(line)) from None
 
     def _named_values(self) -> dict:
         """Every variable's value by name."""
         return {v.name: self._tables[v.kind][v.vr] for v in self._variables}
 
-    # modelDescription.xml (build time only) ------------------------------------------------
-    def to_xml(self, model_options=None):
-        root = super().to_xml(model_options or {})
-        decorate_model_description(root, [(v.name, v.unit, v.bounds) for v in self._variables])
-        return root
-
 
 _fsum = math.fsum
+
+
+def _flat(values):
+    """The numbers of ``values``, array elements in order."""
+    for x in values:
+        if type(x) is list:
+            yield from x
+        else:
+            yield x
 
 
 def _shown(value) -> object:

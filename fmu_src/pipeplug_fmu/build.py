@@ -9,6 +9,8 @@ Usage (inside an environment with ``pipeplug[fmu]`` installed)::
 file; everything else is written into the same folder:
 
 * ``Hammer.fmu``: the blow train (:mod:`~pipeplug_fmu.blows`, :mod:`~pipeplug_fmu.hammer`);
+* ``fmi3/PipePlug.fmu``, ``fmi3/Hammer.fmu``: the same slaves as FMI 3.0 co-simulation FMUs
+  (pythonfmu3, :mod:`~pipeplug_fmu.fmi3`), PipePlug with the profile arrays;
 * ``PipeRamming.ssp``, ``OspSystemStructure.xml``, ``PipePlug_OspModelDescription.xml`` and
   ``Hammer_OspModelDescription.xml``: Hammer driving PipePlug (:mod:`~pipeplug_fmu.systems`).
 
@@ -41,7 +43,8 @@ from pathlib import Path
 from .native import compile_loader, inner_name
 from .pythonfmu07 import SCRIPT
 
-__all__ = ["build", "build_fmu", "stage", "install_loader", "main", "DEFAULT_DEST", "FMUS"]
+__all__ = ["build", "build_fmu", "stage", "install_loader", "main", "DEFAULT_DEST", "FMUS",
+           "FMUS3", "FMI3_FOLDER"]
 
 DEFAULT_DEST = Path("dist") / "PipePlug.fmu"
 _ADAPTER = Path(__file__).resolve().parent
@@ -58,19 +61,53 @@ class FmuKind:
     runtime: tuple             # the adapter modules shipped
     with_core: bool            # ship the core as <package>.pipeplug
     documentation: str         # the adapter module with documentation_html()
+    slave: str = ""            # FMI 3.0: the version-neutral slave class the script extends
 
 
 #: The FMI base every FMU ships: base (with its call sequence and FMU states), its pythonfmu 0.7
-#: workarounds, the interface helpers.
-_BASE = ("base.py", "sequence.py", "fmu_state.py", "pythonfmu07.py", "fmi.py")
+#: workarounds, the interface helpers, and the FMI 2.0 binding.
+_BASE = ("base.py", "sequence.py", "fmu_state.py", "pythonfmu07.py", "fmi.py", "fmi2.py")
 
 #: The project's FMUs by modelIdentifier.
 FMUS = {
-    "PipePlug": FmuKind("PipePlug", "pipeplug", "slave",
-                        ("__init__.py", "slave.py", *_BASE), True, "documentation"),
-    "Hammer": FmuKind("Hammer", "hammer", "hammer", ("__init__.py", "hammer.py", "blows.py",
-                                                     *_BASE), False, "hammer_documentation"),
+    "PipePlug": FmuKind("PipePlug", "pipeplug", "fmi2_pipeplug",
+                        ("__init__.py", "slave.py", "fmi2_pipeplug.py", *_BASE), True,
+                        "documentation"),
+    "Hammer": FmuKind("Hammer", "hammer", "fmi2_hammer",
+                      ("__init__.py", "hammer.py", "fmi2_hammer.py", "blows.py", *_BASE), False,
+                      "hammer_documentation"),
 }
+
+#: The FMI 3.0 base: the same, with the FMI 3.0 binding instead of FMI 2.0's.
+_BASE3 = (*_BASE[:-1], "fmi3.py")
+
+#: The project's FMI 3.0 FMUs by modelIdentifier: the same slaves; the class is defined in the
+#: script (pythonfmu3 finds it there by its text).
+FMUS3 = {
+    "PipePlug": FmuKind("PipePlug", "pipeplug3", "slave", ("__init__.py", "slave.py", *_BASE3),
+                        True, "documentation", "PipePlugSlave"),
+    "Hammer": FmuKind("Hammer", "hammer3", "hammer", ("__init__.py", "hammer.py", "blows.py",
+                                                      *_BASE3), False, "hammer_documentation",
+                      "HammerSlave"),
+}
+
+#: Where the FMI 3.0 FMUs go, beside the FMI 2.0 ones.
+FMI3_FOLDER = "fmi3"
+
+#: The FMI 3.0 slave script (pythonfmu3 imports it once and finds the class by the text of its
+#: ``class`` line, which must name Fmi3Slave).
+SCRIPT3 = '''"""The {cls} slave of build {tag}, FMI 3.0 (see pipeplug_fmu.build)."""
+from pythonfmu3 import Fmi3Slave
+
+from {prefix}_fmu_{tag}.fmi3 import Fmi3Binding
+from {prefix}_fmu_{tag}.{module} import {slave}
+
+__all__ = ["{cls}"]
+
+
+class {cls}({slave}, Fmi3Binding, Fmi3Slave):  # Fmi3Slave: named for pythonfmu3's class search
+    pass
+'''
 
 
 def build(dest: Path = DEFAULT_DEST) -> list[Path]:
@@ -84,25 +121,38 @@ def build(dest: Path = DEFAULT_DEST) -> list[Path]:
     dest = Path(dest).resolve()
     pipeplug = build_fmu("PipePlug", dest)
     hammer = build_fmu("Hammer", dest.with_name("Hammer.fmu"))
+    fmi3 = [build_fmu(name, dest.parent / FMI3_FOLDER / f"{name}.fmu", 3) for name in FMUS3]
     return [pipeplug, hammer, *write_systems(dest.parent, pipeplug, hammer),
-            *write_systems(dest.parent / RAM_FOLDER, pipeplug, hammer, ram_system())]
+            *write_systems(dest.parent / RAM_FOLDER, pipeplug, hammer, ram_system()), *fmi3]
 
 
-def build_fmu(identifier: str, dest: Path) -> Path:
-    """Build the FMU ``identifier`` (a key of :data:`FMUS`) at ``dest``; return its path."""
+def build_fmu(identifier: str, dest: Path, version: int = 2) -> Path:
+    """Build the FMU ``identifier`` (a key of :data:`FMUS`) at ``dest`` for FMI ``version`` (2
+    or 3); return its path."""
     import importlib
 
-    from pythonfmu import FmuBuilder
+    if version == 3:
+        from pythonfmu3 import FmuBuilder
+    else:
+        from pythonfmu import FmuBuilder
 
-    kind = FMUS[identifier]
+    kind = (FMUS3 if version == 3 else FMUS)[identifier]
     dest = Path(dest).resolve()
     dest.parent.mkdir(parents=True, exist_ok=True)
     documentation = importlib.import_module(f"{__package__}.{kind.documentation}")
     with tempfile.TemporaryDirectory(prefix=f"{kind.prefix}_build_") as tmp:
-        script, package = stage(Path(tmp) / "stage", identifier)
+        script, package = stage(Path(tmp) / "stage", identifier, version)
         docs = Path(tmp) / "documentation"
         docs.mkdir()
         (docs / "index.html").write_text(documentation.documentation_html(), encoding="utf-8")
+        if version == 3:
+            # pythonfmu3 writes <modelIdentifier>.fmu into a folder
+            built = Path(FmuBuilder.build_FMU(
+                script, dest=Path(tmp) / "out", project_files=[package],
+                documentation_folder=docs, canGetAndSetFMUState=True,
+                canSerializeFMUState=True, canHandleVariableCommunicationStepSize=True,
+                needsExecutionTool=True))
+            return Path(shutil.move(str(built), str(dest)))
         fmu = Path(FmuBuilder.build_FMU(
             script, dest=dest, project_files=[package], documentation_folder=docs,
             canGetAndSetFMUstate=True, canSerializeFMUstate=True,
@@ -135,14 +185,14 @@ def _renamed(info: zipfile.ZipInfo, name: str) -> zipfile.ZipInfo:
     return copy
 
 
-def stage(folder: Path, identifier: str = "PipePlug") -> tuple[Path, Path]:
-    """Write the slave script of FMU ``identifier`` and its package into ``folder``; return both
-    paths.
+def stage(folder: Path, identifier: str = "PipePlug", version: int = 2) -> tuple[Path, Path]:
+    """Write the slave script of FMU ``identifier`` (FMI ``version``) and its package into
+    ``folder``; return both paths.
 
     The package is the FMU's adapter modules (plus the core for PipePlug), without compiled
     caches; its name and the script's carry the digest of their content.
     """
-    kind = FMUS[identifier]
+    kind = (FMUS3 if version == 3 else FMUS)[identifier]
     files = [(name, _ADAPTER / name) for name in kind.runtime]
     if kind.with_core:
         import pipeplug
@@ -160,8 +210,9 @@ def stage(folder: Path, identifier: str = "PipePlug") -> tuple[Path, Path]:
         target.parent.mkdir(parents=True, exist_ok=True)
         shutil.copy2(path, target)
     script = folder / f"{kind.prefix}_slave_{tag}.py"
-    script.write_text(SCRIPT.format(tag=tag, prefix=kind.prefix, module=kind.module,
-                                     cls=identifier), encoding="utf-8")
+    script.write_text((SCRIPT3 if version == 3 else SCRIPT).format(
+        tag=tag, prefix=kind.prefix, module=kind.module, cls=identifier, slave=kind.slave),
+        encoding="utf-8")
     return script, package
 
 

@@ -43,7 +43,7 @@ def refusal(name: str, value: object, allowed: str) -> str:
     return f"{name} = {value!r} is not allowed; allowed: {allowed}"
 
 
-def decorate_model_description(root: Element, variables) -> None:
+def decorate_model_description(root: Element, variables, fmi3: bool = False) -> None:
     """Add ``<UnitDefinitions>`` (the units of :data:`UNITS` that ``variables`` use) and each
     Real's ``unit``, ``min`` and ``max`` (build time).
 
@@ -52,8 +52,10 @@ def decorate_model_description(root: Element, variables) -> None:
     root : Element
         ``fmiModelDescription`` as pythonfmu writes it.
     variables : iterable of (name, unit or None, bounds)
-        One entry per ScalarVariable, in value-reference order; ``bounds`` is ``(min, max)``
+        One entry per variable, in value-reference order; ``bounds`` is ``(min, max)``
         with None for an absent bound.
+    fmi3 : bool, optional
+        FMI 3.0: the variable's element is typed itself (``<Float64 .../>``), not its child.
     """
     variables = list(variables)
     used = {unit for _, unit, _ in variables}
@@ -64,8 +66,8 @@ def decorate_model_description(root: Element, variables) -> None:
                        {k: str(v) for k, v in exponents.items()})
     root.insert(list(root).index(root.find("CoSimulation")) + 1, units)
     for node, (_, unit, (lower, upper)) in zip(root.find("ModelVariables"), variables):
-        type_node = node[0]
-        if unit is not None and type_node.tag == "Real":
+        type_node = node if fmi3 else node[0]
+        if unit is not None and type_node.tag in ("Real", "Float64"):
             type_node.set("unit", unit)
         if lower is not None:
             type_node.set("min", _xml_number(lower))

@@ -31,12 +31,12 @@ class StateHandling:
     def _get_fmu_state(self):
         try:
             model = self._save(self._model) if self._phase in RUNNING else None
-            values = {v.name: _PLAIN[v.kind](self._tables[v.kind][v.vr])
+            values = {v.name: _plain(v.kind, self._tables[v.kind][v.vr])
                       for v in self._variables}            # plain Python: JSON-ready
             return {"mark": self._state_mark(), "phase": self._phase.value, "time": self._time,
                     "stop": self._stop_time, "values": values, "model": model}
         except Exception as exc:
-            self._fail("fmi2GetFMUstate", exc)
+            self._fail(self._call(f"Get{self.STATE}"), exc)
 
     def _set_fmu_state(self, state):
         try:
@@ -44,10 +44,10 @@ class StateHandling:
             model = None
             if phase in RUNNING:
                 model = self._build({n: values[n] for n, v in self._by_name.items()
-                                     if v.causality == "parameter"})
+                                     if v.causality in ("parameter", "structuralParameter")})
                 self._load(model, state["model"])
         except Exception as exc:
-            self._fail("fmi2SetFMUstate", exc)
+            self._fail(self._call(f"Set{self.STATE}"), exc)
         for name, value in values.items():              # all checked: now change everything
             var = self._by_name[name]
             self._tables[var.kind][var.vr] = value
@@ -58,8 +58,9 @@ class StateHandling:
     def _checked_state(self, state) -> tuple:
         """Phase, time, stop time and values of a state; raises :class:`Refuse` with what is
         wrong with it."""
-        allowed = (f"a state of this {self.model_identifier} build from fmi2GetFMUstate or "
-                   f"fmi2DeSerializeFMUstate")
+        allowed = (f"a state of this {self.model_identifier} build from "
+                   f"{self._call('Get' + self.STATE)} or "
+                   f"{self._call('DeSerialize' + self.STATE)}")
         if not isinstance(state, dict) or state.get("mark") != self._state_mark():
             reason = state.get("invalid") if isinstance(state, dict) else None
             raise Refuse.of("FMUstate", reason or _mark_of(state), allowed)
@@ -77,8 +78,10 @@ class StateHandling:
                             f"exactly the variables of {self.model_identifier}")
         for name, value in values.items():
             var = self._by_name[name]
-            if not _of_kind(value, var.kind) or (var.causality == "output"
-                                                 and not all_finite((value,))):
+            shape_ok = (type(value) is list) == (var.size_of is not None)
+            items = value if type(value) is list else (value,)
+            if not shape_ok or not all(_of_kind(x, var.kind) for x in items) or (
+                    var.causality == "output" and not all_finite(items)):
                 raise Refuse.of(f"FMUstate {name}", value, f"a {var.kind}" + (
                     ", finite" if var.causality == "output" else ""))
         if (phase in RUNNING) != isinstance(state.get("model"), dict):
@@ -117,8 +120,15 @@ class StateHandling:
         return state
 
 
-_NUMBER_KINDS = {"Real": "f", "Integer": "i", "Boolean": "b"}
-_PLAIN = {"Real": float, "Integer": int, "Boolean": bool, "String": str}
+_NUMBER_KINDS = {"Real": "f", "Integer": "i", "Boolean": "b", "UInt64": "i"}
+_PLAIN = {"Real": float, "Integer": int, "Boolean": bool, "String": str, "UInt64": int}
+
+
+def _plain(kind: str, value):
+    """``value`` (a number, or a list of them) as plain Python of its kind."""
+    if type(value) is list:
+        return [_PLAIN[kind](x) for x in value]
+    return _PLAIN[kind](value)
 
 
 def _of_kind(value, kind: str) -> bool:

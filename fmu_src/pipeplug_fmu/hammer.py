@@ -1,4 +1,5 @@
-"""Hammer: the FMI 2.0 co-simulation slave of a train of rectangular blows or ram strikes.
+"""Hammer: the co-simulation slave of a train of rectangular blows or ram strikes (FMI 2.0 and
+3.0: :class:`HammerSlave` imports no FMI library; the FMUs' classes put a binding after it).
 
 The train and its parameter table are :mod:`~pipeplug_fmu.blows`; this adapter registers them
 on the FMUs' FMI base (:mod:`pipeplug_fmu.base`: call sequence, refusals and FMU state, as for
@@ -21,15 +22,11 @@ carries the build's content digest.
 """
 from __future__ import annotations
 
-from xml.etree.ElementTree import Element, SubElement
-
-from pythonfmu import DefaultExperiment, Fmi2Causality, Fmi2Initial, Fmi2Variability
-
 from .base import FmiBase, Phase, Refuse
 from .blows import DEFAULT_EXPERIMENT, DESCRIPTION, OUTPUTS, PARAMETERS, BlowTrainError, check
 
 
-class Hammer(FmiBase):
+class HammerSlave(FmiBase):
     author = "PipePlug contributors"
     license = "MIT"
     description = DESCRIPTION
@@ -37,7 +34,7 @@ class Hammer(FmiBase):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        self.default_experiment = DefaultExperiment(*DEFAULT_EXPERIMENT)
+        self.default_experiment = self._experiment(*DEFAULT_EXPERIMENT)
 
     def _register(self) -> None:
         # Q, the rectangular train's parameters, then the ram's outputs: the value references
@@ -46,16 +43,15 @@ class Hammer(FmiBase):
         self._add_outputs(OUTPUTS[:1])
         for p in PARAMETERS:
             self._add(p.kind, p.name, p.default, p.unit,
-                      f"{p.description} [allowed: {p.allowed}]", Fmi2Causality.parameter,
-                      Fmi2Variability.fixed, bounds=(p.lower, p.upper), allowed=p.allowed)
+                      f"{p.description} [allowed: {p.allowed}]", "parameter", "fixed",
+                      bounds=(p.lower, p.upper), allowed=p.allowed)
         self._add_outputs(OUTPUTS[1:])
 
     def _add_outputs(self, rows) -> None:
         # initial="calculated": they depend on the parameters (InitialUnknowns).
         for name, kind, unit, meaning in rows:
             self._outputs[name] = self._add(kind, name, 0.0 if kind == "Real" else 0, unit,
-                                            meaning, Fmi2Causality.output,
-                                            Fmi2Variability.discrete, Fmi2Initial.calculated)
+                                            meaning, "output", "discrete", "calculated")
 
     # Hooks of the FMI base -----------------------------------------------------------------
     def _build(self, values: dict):
@@ -87,9 +83,6 @@ class Hammer(FmiBase):
 
         root = super().to_xml(model_options)
         root.set("version", pipeplug.__version__)
-        unknowns = SubElement(root.find("ModelStructure"), "InitialUnknowns")
-        for vr in self._outputs.values():
-            unknowns.append(Element("Unknown", index=str(vr + 1)))
         return root
 
 

@@ -1,4 +1,4 @@
-"""PipePlug: the FMI 2.0 co-simulation slave around the :mod:`pipeplug` core (pythonfmu).
+"""PipePlug: the co-simulation slave around the :mod:`pipeplug` core, for FMI 2.0 and 3.0.
 
 A thin adapter on the FMUs' FMI base (:mod:`pipeplug_fmu.base`, which holds the call sequence,
 the refusals and the FMU state): it registers the contract's variables (names, units, defaults
@@ -10,6 +10,11 @@ its outputs and state to the base.
 Refusals of its own: a parameter or option the core refuses (fmi2Error, the core's line); a
 non-finite ``Q``, or a step the core refuses with :class:`~pipeplug.ParameterError` (too many
 internal steps, say), is fmi2Discard with that line and changes nothing.
+
+:class:`PipePlugSlave` imports no FMI library: the FMUs' classes put a binding after it
+(:mod:`pipeplug_fmu.fmi2`, :mod:`pipeplug_fmu.fmi3`). On a binding with arrays (FMI 3.0) it
+also registers the structural parameter ``profile_points`` and the profile arrays of
+:data:`pipeplug.interface.PROFILES`, sized by it.
 
 This module runs only inside a built FMU (see :mod:`pipeplug_fmu.build`): there it sits in a
 package whose name carries the build's content digest, next to its own copy of the core
@@ -23,8 +28,6 @@ from __future__ import annotations
 import importlib
 import pkgutil
 
-from pythonfmu import DefaultExperiment, Fmi2Causality, Fmi2Initial, Fmi2Variability
-
 from . import pipeplug as core
 from .base import Discard, FmiBase, Refuse, conformity
 from .fmi import DEFAULT_EXPERIMENT, DESCRIPTION, INPUTS, refusal
@@ -32,15 +35,14 @@ from .fmi import DEFAULT_EXPERIMENT, DESCRIPTION, INPUTS, refusal
 for _module in pkgutil.walk_packages(core.__path__, core.__name__ + "."):
     importlib.import_module(_module.name)        # every model kind, now (see the docstring)
 
-_C, _V = Fmi2Causality, Fmi2Variability
-_KIND_OF_OUTPUT = {"Real": ("Real", _V.continuous, 0.0), "Integer": ("Integer", _V.discrete, 0),
-                   "Boolean": ("Boolean", _V.discrete, False)}
+_KIND_OF_OUTPUT = {"Real": ("Real", "continuous", 0.0), "Integer": ("Integer", "discrete", 0),
+                   "Boolean": ("Boolean", "discrete", False)}
 _MODES = {o.name for o in core.OUTPUTS if o.kind == "Integer"}
 _SEEN = "fmu_strikes_seen"     # the adapter's own field in an FMU state
 _ALLOWED_INPUT = {"Q": "finite [N]", "strikes": "an Integer", "v_strike": "finite [m/s]"}
 
 
-class PipePlug(FmiBase):
+class PipePlugSlave(FmiBase):
     author = "PipePlug contributors"
     license = "MIT"
     version = core.__version__
@@ -49,7 +51,7 @@ class PipePlug(FmiBase):
 
     def __init__(self, **kwargs):
         super().__init__(**kwargs)
-        self.default_experiment = DefaultExperiment(*DEFAULT_EXPERIMENT)
+        self.default_experiment = self._experiment(*DEFAULT_EXPERIMENT)
 
     def _register(self) -> None:
         # Q, the outputs, the parameters and options, then the ram's inputs: the value
@@ -60,23 +62,47 @@ class PipePlug(FmiBase):
         self._strikes_seen = 0      # the strikes counter the model has acted on
         for out in core.OUTPUTS:
             kind, variability, start = _KIND_OF_OUTPUT[out.kind]
-            self._add(kind, out.name, start, out.unit, out.meaning, _C.output, variability,
-                      Fmi2Initial.exact, (-1, 1) if out.name in _MODES else (None, None))
+            self._add(kind, out.name, start, out.unit, out.meaning, "output", variability,
+                      "exact", (-1, 1) if out.name in _MODES else (None, None))
         for p in core.PARAMETERS:
             self._add("Real", p.name, float(p.default), p.unit,
-                      f"{p.description} [allowed: {p.allowed()}]", _C.parameter, _V.fixed,
+                      f"{p.description} [allowed: {p.allowed()}]", "parameter", "fixed",
                       bounds=(p.lower, p.upper), allowed=p.allowed())
         for name, (allowed, default, meaning) in core.OPTIONS.items():
             shown = ", ".join(map(repr, allowed))
             self._add("Boolean" if isinstance(default, bool) else "String", name, default, None,
-                      f"{meaning} [allowed: {shown}]", _C.parameter, _V.fixed, allowed=shown)
+                      f"{meaning} [allowed: {shown}]", "parameter", "fixed", allowed=shown)
         self._add_inputs(INPUTS[1:])
+        if self.ARRAYS:                         # the binding's: FMI 3.0 has arrays
+            self._add_profiles()
 
     def _add_inputs(self, rows) -> None:
         for name, kind, unit, start, meaning in rows:
-            self._inputs[name] = self._add(kind, name, start, unit, meaning, _C.input,
-                                           _V.continuous if kind == "Real" else _V.discrete,
+            self._inputs[name] = self._add(kind, name, start, unit, meaning, "input",
+                                           "continuous" if kind == "Real" else "discrete",
                                            allowed=_ALLOWED_INPUT[name])
+
+    def _add_profiles(self) -> None:
+        """profile_points and the profile arrays (after every variable of the FMI 2.0 FMU)."""
+        default, lower, upper = core.interface.PROFILE_POINTS
+        allowed = f"an integer >= {lower} and <= {upper}"
+        self._points = self._add("UInt64", "profile_points", default, None,
+                                 f"number of sections of the profile arrays [allowed: "
+                                 f"{allowed}]", "structuralParameter", "fixed", "exact",
+                                 (lower, upper), allowed)
+        self._profile_vrs = tuple(
+            self._add("Real", p.name, [0.0] * default, p.unit, p.meaning, "output",
+                      "continuous", "exact", size_of=self._points)
+            for p in core.interface.PROFILES)
+
+    def _refresh(self) -> None:
+        """The profile arrays take the length of profile_points as it is set (zeros)."""
+        if self.ARRAYS:
+            n = self._tables["UInt64"][self._points]
+            if len(self._reals[self._profile_vrs[0]]) != n and self._model is None:
+                _, lower, upper = core.interface.PROFILE_POINTS
+                for vr in self._profile_vrs:
+                    self._reals[vr] = [0.0] * (n if lower <= n <= upper else 0)
 
     # Hooks of the FMI base -----------------------------------------------------------------
     def _build(self, values: dict):
@@ -86,7 +112,8 @@ class PipePlug(FmiBase):
         try:
             # The exact rigid solver runs as plain Python here: a whole run is faster without
             # numba's import (README, "Performance of the FMU"); elastic kernels compile.
-            return core.build_model(params, options, compiled=False)
+            return core.build_model(params, options, compiled=False,
+                                    profile_points=values.get("profile_points", 0))
         except core.ParameterError as exc:
             raise Refuse.of(exc.name, exc.value, exc.allowed) from None
         except ImportError as exc:
@@ -114,6 +141,8 @@ class PipePlug(FmiBase):
                 model.set_state(saved)
             raise Discard(refusal(exc.name, exc.value, exc.allowed)) from None
         self._strikes_seen = strikes
+        if self.ARRAYS:
+            return (*model.outputs(), *(a.tolist() for a in model.profiles()))
         return model.outputs()
 
     def _save(self, model) -> dict:

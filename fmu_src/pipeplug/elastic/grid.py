@@ -12,6 +12,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..interface import profile_sections
 from ..params import ParameterError
 from .head import stable_cushion
 from .kernels import C1, C2, DX, K1, K2, K_LOAD, K_UNLOAD, M1, M2, N_COEF, RAM_MASS
@@ -42,6 +43,8 @@ class Grid(NamedTuple):
     plug: Section        #: monitored plug section (cells of the plug)
     cells1: np.ndarray   #: tracked pipe cells: [front, pipe.a, pipe.b]
     cells2: np.ndarray   #: tracked plug cells: [plug.a, plug.b], or empty
+    profile: tuple       #: pipe sections of the profiles (their cells tracked after the 3 above)
+    profile_plug: tuple  #: plug sections of the profiles (empty without a plug)
 
 
 def cell_count(length: float, dx: float) -> int:
@@ -62,8 +65,10 @@ def _section(x: float, n: int, dx: float) -> Section:
     return Section(a, min(a + 1, n - 1), w, cell)
 
 
-def build_grid(params) -> Grid:
-    """Derive the grid from validated parameters (raises ParameterError for a bad ``dx``)."""
+def build_grid(params, profile_points: int = 0) -> Grid:
+    """Derive the grid from validated parameters (raises ParameterError for a bad ``dx``), with
+    the sections of ``profile_points`` profile points (0: none; their displacements are tracked
+    like the monitored section's, so element k equals the output with x_monitor = x_k)."""
     p = params
     dx = p.dx
     n1 = cell_count(p.L1, dx)
@@ -80,9 +85,17 @@ def build_grid(params) -> Grid:
         _ram_coefficients(p, coef, h_max)
     pipe = _section(p.x_monitor, n1, dx)
     plug = _section(p.x_monitor - (p.L1 - p.L2), n2, dx) if n2 else Section(0, 0, 0.0, 0)
-    cells1 = np.array([n1 - 1, pipe.a, pipe.b], dtype=np.int64)
+    profile = profile_plug = ()
+    if profile_points:
+        xs, xs_plug = profile_sections(p.L1, p.L2, profile_points)
+        profile = tuple(_section(float(x), n1, dx) for x in xs)
+        if n2:
+            profile_plug = tuple(_section(float(x) - (p.L1 - p.L2), n2, dx) for x in xs_plug)
+    cells1 = np.array([n1 - 1, pipe.a, pipe.b, *(c for s in profile for c in (s.a, s.b))],
+                      dtype=np.int64)
     cells2 = np.array([plug.a, plug.b] if n2 else [], dtype=np.int64)
-    return Grid(n1, n2, p.tau1 > 0.0, coef, h_max, pipe, plug, cells1, cells2)
+    return Grid(n1, n2, p.tau1 > 0.0, coef, h_max, pipe, plug, cells1, cells2, profile,
+                profile_plug)
 
 
 def _ram_coefficients(p, coef, h_max: float) -> None:

@@ -54,12 +54,13 @@ import math
 import numpy as np
 
 from .. import jit
-from ..interface import ModelBase, Outputs
+from ..interface import ModelBase, Outputs, profile_sections
 from ..params import ParameterError
 from .grid import Section, build_grid
 from .head import cushion_energy, start_strike
 from .kernels import (
     COMPENSATION,
+    DX,
     F_IN,
     F_OUT,
     K1,
@@ -160,9 +161,12 @@ class ElasticModel(ModelBase):
         (:func:`pipeplug.jit.enabled`), else the numpy steps.
     """
 
-    def __init__(self, params, options, vectorised: bool | None = None):
+    def __init__(self, params, options, vectorised: bool | None = None,
+                 profile_points: int = 0):
         self.params = params
-        self.grid = g = build_grid(params)
+        self.grid = g = build_grid(params, profile_points)
+        if profile_points:
+            self._profiler = _profiles
         effects = (g.n2 > 0, g.soil, bool(options.contact_growth))
         self.kernel_name = KERNELS[effects].__name__
         if vectorised is None:
@@ -404,6 +408,26 @@ def _fly(delta: float, step: float, n: int) -> float:
 def _work(acc, index) -> float:
     """A compensated sum of ``acc`` [J]: the sum and its accumulated rounding error."""
     return float(acc[index] + acc[index + COMPENSATION])
+
+
+def _profiles(model: ElasticModel) -> tuple:
+    """The profiles (:data:`pipeplug.interface.PROFILES`) of ``model``: each element as
+    :meth:`ElasticModel.outputs` computes the output at its section; the stress between the
+    faces around the section, linearly."""
+    g, u1 = model.grid, model.u1
+    v = np.array([_interpolate(model.v1, s) for s in g.profile])
+    u = np.array([(1.0 - s.w) * u1[3 + 2 * k] + s.w * u1[4 + 2 * k]
+                  for k, s in enumerate(g.profile)])
+    dx, n1, N1 = g.coef[DX], g.n1, model.N1
+    stress = np.empty(len(g.profile))
+    for k, x in enumerate(profile_sections(model.params.L1, model.params.L2,
+                                           len(g.profile))[0]):
+        j = min(int(x / dx), n1 - 1)
+        w = x / dx - j
+        stress[k] = ((1.0 - w) * N1[j] + w * N1[j + 1]) / model.params.S1
+    plug = (np.array([_interpolate(model.v2, s) for s in g.profile_plug]) if g.n2
+            else np.zeros(len(g.profile)))
+    return v, u, stress, plug
 
 
 def _interpolate(values: np.ndarray, section: Section) -> float:

@@ -15,9 +15,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..interface import profile_sections
 from ..jit import jitable
 
-__all__ = ["axial_force_at", "axial_extremes"]
+__all__ = ["axial_force_at", "axial_extremes", "RigidProfiles"]
 
 
 @jitable
@@ -43,3 +44,32 @@ def axial_extremes(head, outer, inner, L1, Lc, L2):
     low = np.minimum(np.minimum(-head, 0.0 * head), np.minimum(at_contact, at_plug))
     high = np.maximum(np.maximum(-head, 0.0 * head), np.maximum(at_contact, at_plug))
     return low, high
+
+
+class RigidProfiles:
+    """The profiles of a rigid model (:data:`pipeplug.interface.PROFILES`): its velocities and
+    displacement are the same at every section; the axial stress is N(x) / S1 at the sections,
+    with the outputs' head and friction forces and the contact length of their instant.
+
+    Parameters
+    ----------
+    params : Params
+        The model's parameters.
+    growth : bool
+        Model II: the soil's contact is the penetrated length min(max(u_pipe, 0), L1).
+    n : int
+        Number of sections.
+    """
+
+    def __init__(self, params, growth: bool, n: int):
+        self.x, _ = profile_sections(params.L1, params.L2, n)
+        self.L1, self.S1, self.growth = params.L1, params.S1, growth
+        self.L2 = params.L2 if params.has_plug else 0.0
+
+    def __call__(self, model) -> tuple:
+        o = model.outputs()
+        Lc = min(max(o.u_pipe, 0.0), self.L1) if self.growth else self.L1
+        stress = axial_force_at(self.x, o.F_head, o.F_outer, o.F_inner, self.L1, Lc,
+                                self.L2) / self.S1
+        n = self.x.size
+        return (np.full(n, o.v_pipe), np.full(n, o.u_pipe), stress, np.full(n, o.v_plug))

@@ -1,0 +1,98 @@
+"""The FMI 2.0 binding of the FMI base (:mod:`pipeplug_fmu.base`) on pythonfmu 0.7.
+
+Mixed in after a slave (``class PipePlug(PipePlugSlave, Fmi2Binding)``): it declares the
+variables to pythonfmu, maps fmi2Get/Set of Real, Integer, Boolean and String onto the base,
+takes the experiment from fmi2SetupExperiment and writes what pythonfmu 0.7 leaves out of
+``modelDescription.xml`` (units, ranges, InitialUnknowns). Lines are escaped for the host's
+printf (pythonfmu07 P4).
+"""
+from __future__ import annotations
+
+from xml.etree.ElementTree import Element, SubElement
+
+from pythonfmu import (
+    Boolean,
+    DefaultExperiment,
+    Fmi2Causality,
+    Fmi2Initial,
+    Fmi2Slave,
+    Fmi2Variability,
+    Integer,
+    Real,
+    String,
+)
+from pythonfmu.enums import Fmi2Status
+
+from .fmi import decorate_model_description
+from .pythonfmu07 import escape_percent
+
+__all__ = ["Fmi2Binding"]
+
+_TYPES = {"Real": Real, "Integer": Integer, "Boolean": Boolean, "String": String}
+
+
+class Fmi2Binding(Fmi2Slave):
+    """FMI 2.0 co-simulation through pythonfmu 0.7 (see the module docstring)."""
+
+    FMI = "fmi2"
+    SEQUENCE = "the FMI 2.0 call sequence"
+    DISCARD = Fmi2Status.discard
+    STATE = "FMUstate"          # as in fmi2GetFMUstate
+    TYPE_NAMES = {"Real": "Real", "Integer": "Integer", "Boolean": "Boolean", "String": "String"}
+    _experiment = staticmethod(DefaultExperiment)
+    ARRAYS = False                # array variables exist
+
+    def _declare(self, var, meaning, getter, variability, initial) -> None:
+        extra = {} if initial is None else {"initial": Fmi2Initial[initial]}
+        self.register_variable(_TYPES[var.kind](
+            var.name, description=meaning, getter=getter, causality=Fmi2Causality[var.causality],
+            variability=Fmi2Variability[variability], **extra))
+        if initial == "calculated" and var.causality == "output":
+            self._calculated = (*getattr(self, "_calculated", ()), var.vr)
+
+    _escape = staticmethod(escape_percent)
+
+    def _register_binding(self) -> None:
+        """Variables of the binding's own (none in FMI 2.0)."""
+
+    def setup_experiment(self, start_time, stop_time=None, tolerance=None):
+        self._setup("fmi2SetupExperiment", start_time, stop_time)
+
+    # Getters and setters: the hot ones inline ------------------------------------------------
+    def get_real(self, vrs):
+        try:
+            return list(map(self._reals.__getitem__, vrs))
+        except Exception:
+            self._refuse_get(vrs, "Real")
+
+    def get_integer(self, vrs):
+        return self._get("Integer", vrs)
+
+    def get_boolean(self, vrs):
+        return self._get("Boolean", vrs)
+
+    def get_string(self, vrs):
+        return self._get("String", vrs)
+
+    def set_real(self, vrs, values):
+        self._set_input("Real", vrs, values)
+
+    def set_integer(self, vrs, values):
+        self._set("Integer", vrs, values)
+
+    def set_boolean(self, vrs, values):
+        self._set("Boolean", vrs, values)
+
+    def set_string(self, vrs, values):
+        self._set("String", vrs, values)
+
+    # modelDescription.xml (build time only) ------------------------------------------------
+    def to_xml(self, model_options=None):
+        root = super().to_xml(model_options or {})
+        decorate_model_description(root, [(v.name, v.unit, v.bounds) for v in self._variables])
+        calculated = getattr(self, "_calculated", ())
+        if calculated:
+            unknowns = SubElement(root.find("ModelStructure"), "InitialUnknowns")
+            for vr in calculated:
+                unknowns.append(Element("Unknown", index=str(vr + 1)))
+        return root
