@@ -2,7 +2,9 @@
 strikes whose records (set, stresses, ENTHRU) hold what the physics allows."""
 from __future__ import annotations
 
+import dataclasses
 import math
+from pathlib import Path
 
 import pytest
 from drive_helpers import toml_text
@@ -87,3 +89,23 @@ def test_a_drive_of_strikes_reports_stresses_and_enthru(tmp_path):
     line = summary(result)
     assert "% of the yield stress 241 MPa" in line and "ENTHRU" in line
     assert "EXCEEDED" not in line
+
+
+CASING_RAM = (Path(__file__).resolve().parents[3] / "scenes" / "drives"
+              / "casing_24in_17m_ram.toml")
+
+
+def test_the_shipped_ram_casing_drive_holds_its_stated_derivations():
+    """The file's ram: the time constant m / Z1 is the 1 ms it states, the strike velocity is
+    sqrt(2 eta E / m), and the first strike's largest compressive stress is the closed form of a
+    rigid ram on a long rod, Z1 v0 / S1 (the wave's round trip, 6.7 ms, is far longer than the
+    ram's 1 ms, and the direct strike has one cell's stiffness, hence 1e-5)."""
+    spec = load_drive(CASING_RAM)
+    p = spec.params()
+    S1 = math.pi * ((p.R1 + p.h1) ** 2 - p.R1 ** 2)
+    Z1 = S1 * math.sqrt(p.E1 * p.rho1)
+    assert spec.hammer.ram_mass / Z1 == pytest.approx(1e-3, rel=1e-4)
+    v0 = math.sqrt(2 * 0.17 * 40500.0 / 711.5)
+    assert spec.hammer.v_strike == pytest.approx(v0, rel=1e-15)
+    first = run_drive_on_core(dataclasses.replace(spec, max_blows=1)).blows[0]
+    assert -first.stress_min == pytest.approx(Z1 * v0 / S1, rel=1e-5)
