@@ -102,6 +102,8 @@ def _instantiates_again(s: Session) -> None:
     """After NULL from fmi2Instantiate: with the usual arguments (and a Python) it works."""
     if s.kind == "c":
         s("setenv", hexed("PIPEPLUG_PYTHON"), hexed(sys.executable))
+        # the usual time allowed too: a probe's 2 s is too short for a loaded machine
+        s("setenv", hexed("PIPEPLUG_PYTHON_TIMEOUT"), hexed("60"))
     s.running()
 
 
