@@ -31,10 +31,11 @@ def host_env(**variables) -> dict:
     return env
 
 
-def compile_host(dest: Path) -> Path:
-    """Compile ``fmi_host.c`` into the executable ``dest`` (plain C: no libpython)."""
-    subprocess.run([sys.executable, "-m", "ziglang", "cc", "-O2", "-o", str(dest),
-                    str(HERE / "fmi_host.c")], check=True, capture_output=True)
+def compile_host(dest: Path, source: str = "fmi_host.c") -> Path:
+    """Compile ``source`` (``fmi_host.c``, FMI 2.0, or ``fmi3_host.c``) into the executable
+    ``dest`` (plain C: no libpython)."""
+    subprocess.run([sys.executable, "-m", "ziglang", "cc", "-O2", "-Wall", "-o", str(dest),
+                    str(HERE / source)], check=True, capture_output=True)
     return dest
 
 

@@ -14,7 +14,7 @@ import textwrap
 import pytest
 
 WORKER = textwrap.dedent('''
-    import json, os, sys
+    import json, sys
     import numpy as np
     from fmpy import read_model_description, simulate_fmu, extract
     from fmpy.fmi3 import FMU3Slave
@@ -87,10 +87,6 @@ WORKER = textwrap.dedent('''
     out["plug_at"] = [run(dict(elastic, x_monitor=0.5 + k * 0.5 / 4), 10) for k in range(5)]
     sys.stdout.write(json.dumps(out) + "\\n")
     sys.stdout.flush()
-    # pythonfmu3's binary releases its interpreter state twice at exit ("corrupted
-    # double-linked list"), as pythonfmu 0.7's does; the FMI 2.0 loader's exit guard has no
-    # FMI 3.0 counterpart yet (docs/fmu.md, "FMI 3.0"), so the worker leaves at once.
-    os._exit(0)
 ''')
 
 
