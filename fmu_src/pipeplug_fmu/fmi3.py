@@ -57,6 +57,7 @@ class Fmi3Binding(Fmi3Slave):
     SEQUENCE = "the FMI 3.0 call sequence of co-simulation without event mode"
     DISCARD = Fmi3Status.discard
     STATE = "FMUState"          # as in fmi3GetFMUState
+    DESERIALIZE = "DeserializeFMUState"
     TYPE_NAMES = {"Real": "Float64", "Integer": "Int32", "Boolean": "Boolean",
                   "String": "String", "UInt64": "UInt64"}
     _experiment = staticmethod(DefaultExperiment)

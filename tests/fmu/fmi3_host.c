@@ -18,6 +18,10 @@
  *                                             t = k H; us per step and NVALUES outputs per step
  *   setenv NAME VALUE (VALUE "-": unset);  guard;  quit
  *
+ * Compiled with -DPYTHON_HOST -shared it is a library whose host_main(binary) runs the same
+ * loop inside a Python process (``python_host3.py``, through ctypes as FMPy calls FMUs): the FMU
+ * then uses that process's interpreter.
+ *
  * Strings (NAME, TOKEN, PATH, string values, BYTES, BINARY) are hex-encoded, "~" for NULL. The
  * logger knows the instance only by its instanceEnvironment (FMI 3.0 loggers get no instance
  * name): each instance gets an environment of its own holding its id, and each message is
@@ -265,15 +269,25 @@ static char guard_symbol[256];
 static char *words[1 << 16];
 static int n_words;
 
+static int run(const char *binary);
+
+#ifdef PYTHON_HOST
+__attribute__((visibility("default"))) int host_main(const char *binary) { return run(binary); }
+#else
 int main(int argc, char **argv) {
     if (argc != 2) {
         fprintf(stderr, "usage: %s BINARY < commands\n", argv[0]);
         return 2;
     }
-    const char *base = strrchr(argv[1], '/') ? strrchr(argv[1], '/') + 1 : argv[1];
+    return run(argv[1]);
+}
+#endif
+
+static int run(const char *binary) {
+    const char *base = strrchr(binary, '/') ? strrchr(binary, '/') + 1 : binary;
     snprintf(guard_symbol, sizeof guard_symbol, "%.*s_exitGuardTarget",
              (int)(strstr(base, ".so") ? strstr(base, ".so") - base : (long)strlen(base)), base);
-    lib = libs[n_libs++] = dlopen(argv[1], RTLD_NOW | RTLD_LOCAL);
+    lib = libs[n_libs++] = dlopen(binary, RTLD_NOW | RTLD_LOCAL);
     if (lib == NULL) {
         printf("@@ 4 dlopen %s\n", dlerror());
         return 3;

@@ -110,7 +110,7 @@ static Status keep(Instance *in, FmuState *state, FmuState fresh) {
     if (*state != NULL) return ST_OK;
     inner.STATE_FREE(in->inner, &fresh);
     Text why = {0};
-    text_printf(&why, "FMUstate cannot be kept: out of memory");
+    text_printf(&why, STATE_WORD " cannot be kept: out of memory");
     return refuse(in, &why);
 }
 
