@@ -146,7 +146,8 @@ def build_fmu(identifier: str, dest: Path, version: int = 2) -> Path:
         script, package = stage(Path(tmp) / "stage", identifier, version)
         docs = Path(tmp) / "documentation"
         docs.mkdir()
-        (docs / "index.html").write_text(documentation.documentation_html(), encoding="utf-8")
+        (docs / "index.html").write_text(documentation.documentation_html(version),
+                                         encoding="utf-8")
         if version == 3:
             # pythonfmu3 writes <modelIdentifier>.fmu into a folder
             built = Path(FmuBuilder.build_FMU(
