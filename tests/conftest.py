@@ -50,3 +50,14 @@ def hammer_dir(hammer_file, tmp_path_factory) -> Path:
 def fmi3_files(fmu_file) -> dict:
     """The FMI 3.0 PipePlug.fmu and Hammer.fmu of the same build (``fmi3/`` beside it)."""
     return {name: fmu_file.parent / "fmi3" / f"{name}.fmu" for name in ("PipePlug", "Hammer")}
+
+
+@pytest.fixture(scope="session")
+def fmi3_dirs(fmi3_files, tmp_path_factory) -> dict:
+    """The FMI 3.0 FMUs extracted once."""
+    dirs = {}
+    for name, path in fmi3_files.items():
+        dirs[name] = tmp_path_factory.mktemp(f"fmi3_{name}")
+        with zipfile.ZipFile(path) as zf:
+            zf.extractall(dirs[name])
+    return dirs

@@ -81,7 +81,8 @@ class FmiBase(StateHandling):
     model_identifier = ""
     # The binding (after this class in the FMU class's bases, so nothing here may shadow it)
     # supplies: FMI (its calls' prefix, "fmi2"), SEQUENCE (its call sequence in words), DISCARD
-    # (its status of a discarded step), STATE ("FMUstate" or "FMUState", as in its calls), ARRAYS
+    # (its status of a discarded step), STATE ("FMUstate" or "FMUState", as in its calls),
+    # DESERIALIZE (its deserializing call without the prefix), ARRAYS
     # (whether array variables exist),
     # TYPE_NAMES (its type name by kind, for call names), _escape(line) (a line as its library
     # hands it to the host), _experiment (its DefaultExperiment),
@@ -160,7 +161,7 @@ class FmiBase(StateHandling):
     def _load(self, model, saved: dict) -> None:
         """Restore the model's own state from :meth:`_save`; raises :class:`Refuse`."""
         if saved:
-            raise Refuse.of("FMUstate", sorted(saved), "no model state")
+            raise Refuse.of(self.STATE, sorted(saved), "no model state")
 
     def _refresh(self) -> None:
         """Update outputs that depend on values set before initialization (default: none)."""

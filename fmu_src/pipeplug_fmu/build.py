@@ -27,7 +27,9 @@ registers its variables from, so the two cannot disagree.
 pythonfmu writes each zip with its own binaries; the build then compiles the loader
 (:mod:`pipeplug_fmu.native`, with the ``ziglang`` package, once per FMU with its model
 identifier) and puts it at ``binaries/linux64/<modelIdentifier>.so``, pythonfmu's linux64 binary
-beside it as ``<modelIdentifier>_pythonfmu.so``. The win64 binary is pythonfmu's, unchanged.
+beside it as ``<modelIdentifier>_pythonfmu.so``; for FMI 3.0 the same with the FMI 3.0 loader in
+``binaries/x86_64-linux/`` before pythonfmu3's binary. The win64 binaries are pythonfmu's and
+pythonfmu3's, unchanged.
 """
 from __future__ import annotations
 
@@ -40,7 +42,7 @@ import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 
-from .native import compile_loader, inner_name
+from .native import compile_loader, inner_name, platform_folder
 from .pythonfmu07 import SCRIPT
 
 __all__ = ["build", "build_fmu", "stage", "install_loader", "main", "DEFAULT_DEST", "FMUS",
@@ -144,7 +146,8 @@ def build_fmu(identifier: str, dest: Path, version: int = 2) -> Path:
         script, package = stage(Path(tmp) / "stage", identifier, version)
         docs = Path(tmp) / "documentation"
         docs.mkdir()
-        (docs / "index.html").write_text(documentation.documentation_html(), encoding="utf-8")
+        (docs / "index.html").write_text(documentation.documentation_html(version),
+                                         encoding="utf-8")
         if version == 3:
             # pythonfmu3 writes <modelIdentifier>.fmu into a folder
             built = Path(FmuBuilder.build_FMU(
@@ -152,7 +155,10 @@ def build_fmu(identifier: str, dest: Path, version: int = 2) -> Path:
                 documentation_folder=docs, canGetAndSetFMUState=True,
                 canSerializeFMUState=True, canHandleVariableCommunicationStepSize=True,
                 needsExecutionTool=True))
-            return Path(shutil.move(str(built), str(dest)))
+            fmu = Path(shutil.move(str(built), str(dest)))
+            install_loader(fmu, compile_loader(Path(tmp) / f"{identifier}.so", identifier, 3),
+                           identifier, 3)
+            return fmu
         fmu = Path(FmuBuilder.build_FMU(
             script, dest=dest, project_files=[package], documentation_folder=docs,
             canGetAndSetFMUstate=True, canSerializeFMUstate=True,
@@ -162,11 +168,14 @@ def build_fmu(identifier: str, dest: Path, version: int = 2) -> Path:
         return fmu
 
 
-def install_loader(fmu: Path, loader: Path, identifier: str = "PipePlug") -> None:
-    """Rewrite the zip ``fmu``: the loader becomes binaries/linux64/<identifier>.so, pythonfmu's
-    binary moves beside it as :func:`~pipeplug_fmu.native.inner_name`; all else is copied."""
-    binary = f"binaries/linux64/{identifier}.so"
-    inner = f"binaries/linux64/{inner_name(identifier)}"
+def install_loader(fmu: Path, loader: Path, identifier: str = "PipePlug",
+                   version: int = 2) -> None:
+    """Rewrite the zip ``fmu`` (FMI ``version``): the loader becomes <identifier>.so in its
+    linux64 binaries' folder, pythonfmu's binary moves beside it as
+    :func:`~pipeplug_fmu.native.inner_name`; all else is copied."""
+    folder = platform_folder(version)
+    binary = f"{folder}/{identifier}.so"
+    inner = f"{folder}/{inner_name(identifier)}"
     rewritten = fmu.with_suffix(".rewriting")
     with zipfile.ZipFile(fmu) as src, zipfile.ZipFile(rewritten, "w") as dst:
         for info in src.infolist():

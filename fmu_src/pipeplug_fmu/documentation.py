@@ -9,6 +9,7 @@ from __future__ import annotations
 from html import escape
 
 from pipeplug import OPTIONS, OUTPUTS, PARAMETERS, __version__
+from pipeplug.interface import PROFILE_POINTS, PROFILES
 
 from . import fmi
 
@@ -130,15 +131,27 @@ another one. With numba installed, the elastic kernels are compiled (cached on d
 """
 
 
-def documentation_html() -> str:
-    """The whole ``index.html``."""
+def documentation_html(fmi_version: int = 2) -> str:
+    """The whole ``index.html`` of the FMU of FMI ``fmi_version`` (2 or 3)."""
     parts = [f"<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
              f"<title>PipePlug {__version__}</title></head><body>",
              f"<h1>PipePlug {__version__}</h1>", f"<p>{escape(fmi.DESCRIPTION)}."
-             f" FMI 2.0 co-simulation, model identifier <code>PipePlug</code>.</p>",
+             f" FMI {fmi_version}.0 co-simulation, model identifier <code>PipePlug</code>.</p>",
              _EQUATIONS, "<h2>Variables</h2>", _input_table(), _output_table(),
-             _parameter_table(), _option_table(), _STEPPING, "</body></html>\n"]
+             _parameter_table(), _option_table(), _STEPPING,
+             *((fmi.fmi3_section("PipePlug"), _profile_table()) if fmi_version == 3 else ()),
+             "</body></html>\n"]
     return "\n".join(parts)
+
+
+def _profile_table() -> str:
+    """The FMI 3.0 profile arrays, sized by the structural parameter profile_points."""
+    low, high = PROFILE_POINTS[1:]
+    return table(f"Array outputs (FMI 3.0): profile_points elements each (structural parameter, "
+                 f"UInt64, default {PROFILE_POINTS[0]}, {low} to {high}; set it before "
+                 f"fmi3EnterInitializationMode); element k is the scalar output with x_monitor "
+                 f"at its section", ("name", "unit", "meaning"),
+                 [(p.name, p.unit, p.meaning) for p in PROFILES])
 
 
 def table(caption: str, header: tuple, rows) -> str:

@@ -78,3 +78,29 @@ def decorate_model_description(root: Element, variables, fmi3: bool = False) -> 
 def _xml_number(value) -> str:
     """A bound as written in modelDescription.xml (integers plain, reals round-tripping)."""
     return str(value) if isinstance(value, int) else f"{value:.17g}"
+
+
+def fmi3_section(model_identifier: str) -> str:
+    """The section of an FMI 3.0 FMU's ``documentation/index.html`` that says how it differs
+    from the FMI 2.0 one the rest of the page describes (HTML)."""
+    return f"""
+<h2>FMI 3.0</h2>
+<p>This is the FMI 3.0 co-simulation FMU: the same variables, value references and results as
+the FMI 2.0 {model_identifier}.fmu this page describes (Real as Float64, Integer as Int32), with
+FMI 3.0's names of the calls (fmi3GetFMUState, fmi3DeserializeFMUState, ...). What differs:</p>
+<ul>
+<li>The start and stop time come with fmi3EnterInitializationMode (FMI 2.0: fmi2SetupExperiment);
+there is no event mode, early return or intermediate update; fmi3EnterConfigurationMode is
+allowed before initialization only; calls of what the FMU does not have (event mode, model
+exchange, clocks, derivatives, types without variables) are refused with fmi3Error and one
+line.</li>
+<li>nValues must be the number of values of the value references given; any other is refused
+with fmi3Error naming the right count.</li>
+<li>On linux64 the binary is <code>binaries/x86_64-linux/{model_identifier}.so</code> (the same
+loader, in front of pythonfmu3's binary <code>{model_identifier}_pythonfmu.so</code>); the
+host's logger gets the host's instanceEnvironment; log lines are not escaped for printf
+(FMI 3.0 loggers take the message as it is). On win64 pythonfmu3's binary runs unchanged:
+refusals are fmi3Fatal and the FMU's time starts at 0.</li>
+</ul>
+"""
+

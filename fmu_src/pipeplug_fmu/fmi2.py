@@ -38,6 +38,7 @@ class Fmi2Binding(Fmi2Slave):
     SEQUENCE = "the FMI 2.0 call sequence"
     DISCARD = Fmi2Status.discard
     STATE = "FMUstate"          # as in fmi2GetFMUstate
+    DESERIALIZE = "DeSerializeFMUstate"
     TYPE_NAMES = {"Real": "Real", "Integer": "Integer", "Boolean": "Boolean", "String": "String"}
     _experiment = staticmethod(DefaultExperiment)
     ARRAYS = False                # array variables exist

@@ -60,21 +60,21 @@ class StateHandling:
         wrong with it."""
         allowed = (f"a state of this {self.model_identifier} build from "
                    f"{self._call('Get' + self.STATE)} or "
-                   f"{self._call('DeSerialize' + self.STATE)}")
+                   f"{self._call(self.DESERIALIZE)}")
         if not isinstance(state, dict) or state.get("mark") != self._state_mark():
             reason = state.get("invalid") if isinstance(state, dict) else None
-            raise Refuse.of("FMUstate", reason or _mark_of(state), allowed)
+            raise Refuse.of(self.STATE, reason or _mark_of(state), allowed)
         try:
             phase = Phase(state["phase"])
             time, stop, values = state["time"], state["stop"], dict(state["values"])
         except Exception as exc:
-            raise Refuse.of("FMUstate", f"{type(exc).__name__}: {exc}", allowed) from None
+            raise Refuse.of(self.STATE, f"{type(exc).__name__}: {exc}", allowed) from None
         if type(time) is not float or not math.isfinite(time):
-            raise Refuse.of("FMUstate time", time, "finite [s]")
+            raise Refuse.of(f"{self.STATE} time", time, "finite [s]")
         if stop is not None and not (type(stop) is float and math.isfinite(stop)):
-            raise Refuse.of("FMUstate stopTime", stop, "None or finite [s]")
+            raise Refuse.of(f"{self.STATE} stopTime", stop, "None or finite [s]")
         if set(values) != set(self._by_name):
-            raise Refuse.of("FMUstate variables", sorted(set(values) ^ set(self._by_name)),
+            raise Refuse.of(f"{self.STATE} variables", sorted(set(values) ^ set(self._by_name)),
                             f"exactly the variables of {self.model_identifier}")
         for name, value in values.items():
             var = self._by_name[name]
@@ -82,10 +82,10 @@ class StateHandling:
             items = value if type(value) is list else (value,)
             if not shape_ok or not all(_of_kind(x, var.kind) for x in items) or (
                     var.causality == "output" and not all_finite(items)):
-                raise Refuse.of(f"FMUstate {name}", value, f"a {var.kind}" + (
+                raise Refuse.of(f"{self.STATE} {name}", value, f"a {var.kind}" + (
                     ", finite" if var.causality == "output" else ""))
         if (phase in RUNNING) != isinstance(state.get("model"), dict):
-            raise Refuse.of("FMUstate model", type(state.get("model")).__name__,
+            raise Refuse.of(f"{self.STATE} model", type(state.get("model")).__name__,
                             "the model's state once initialized, none before")
         return phase, time, stop, values
 

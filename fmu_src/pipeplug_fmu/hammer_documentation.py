@@ -9,7 +9,7 @@ from html import escape
 
 from pipeplug import __version__
 
-from . import blows
+from . import blows, fmi
 from .documentation import table
 
 _EQUATIONS = """
@@ -80,14 +80,15 @@ PipePlug run side by side in one interpreter.</p>
 """
 
 
-def documentation_html() -> str:
-    """The whole ``index.html`` of Hammer.fmu."""
+def documentation_html(fmi_version: int = 2) -> str:
+    """The whole ``index.html`` of Hammer.fmu of FMI ``fmi_version`` (2 or 3)."""
     parts = [f"<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
              f"<title>Hammer {__version__}</title></head><body>",
              f"<h1>Hammer {__version__}</h1>", f"<p>{escape(blows.DESCRIPTION)}."
-             f" FMI 2.0 co-simulation, model identifier <code>Hammer</code>.</p>",
+             f" FMI {fmi_version}.0 co-simulation, model identifier <code>Hammer</code>.</p>",
              _EQUATIONS, _TIMING, "<h2>Variables</h2>", _output_table(), _parameter_table(),
-             _STATUSES, "</body></html>\n"]
+             _STATUSES,
+             *((fmi.fmi3_section("Hammer"),) if fmi_version == 3 else ()), "</body></html>\n"]
     return "\n".join(parts)
 
 

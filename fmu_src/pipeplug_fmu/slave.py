@@ -153,7 +153,7 @@ class PipePlugSlave(FmiBase):
     def _load(self, model, saved: dict) -> None:
         wrong = conformity(dict(model.get_state(), **{_SEEN: 0}), saved)
         if wrong is not None:
-            raise Refuse.of("FMUstate", wrong, "the state of a model of these parameters")
+            raise Refuse.of(self.STATE, wrong, "the state of a model of these parameters")
         model.set_state({k: (v.copy() if hasattr(v, "copy") else v) for k, v in saved.items()
                          if k != _SEEN})
         self._strikes_seen = int(saved[_SEEN])

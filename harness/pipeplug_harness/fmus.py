@@ -1,7 +1,8 @@
 """Where a command finds the FMUs it needs, from any folder.
 
 ``--fmu PATH`` names one. Without it the command takes the FMUs built from the installed code:
-``<cache>/fmu/<digest>/PipePlug.fmu`` (with Hammer.fmu and the system files beside it), where
+``<cache>/fmu/<digest>/PipePlug.fmu`` (with Hammer.fmu and the system files beside it, the FMI
+3.0 FMUs in ``fmi3/``, which ``--fmi 3`` chooses), where
 ``<digest>`` is a digest of the content of everything a build ships (the core, the adapter,
 their versions) and ``<cache>`` is ``PIPEPLUG_CACHE_DIR`` or the user's cache folder
 (``~/.cache/pipeplug``). When that folder is missing the FMUs are built into it once (about a
@@ -20,11 +21,22 @@ from pathlib import Path
 
 from pipeplug_harness.errors import RunFailed, UserError
 
-__all__ = ["cache_root", "build_digest", "cached_build", "find_fmu", "BUILD_FILES"]
+__all__ = ["cache_root", "build_digest", "cached_build", "find_fmu", "BUILD_FILES",
+           "FMI_VERSIONS", "add_fmi_argument"]
 
 #: the files of a build, PipePlug.fmu first
 BUILD_FILES = ("PipePlug.fmu", "Hammer.fmu", "PipeRamming.ssp", "OspSystemStructure.xml")
-_SHIPPED = (".py", ".c")
+_SHIPPED = (".py", ".c", ".h")
+#: The FMI versions of the FMUs a build holds (``--fmi``), and the folder of each.
+FMI_VERSIONS = (2, 3)
+_FMI_FOLDER = {2: ".", 3: "fmi3"}
+
+
+def add_fmi_argument(parser) -> None:
+    """The ``--fmi`` option of a command that runs PipePlug.fmu."""
+    parser.add_argument("--fmi", type=int, default=2, choices=FMI_VERSIONS,
+                        help="the FMI version of the FMU to run (%(default)s; 3: the build's "
+                             "fmi3/PipePlug.fmu)")
 
 
 def cache_root() -> Path:
@@ -56,6 +68,7 @@ def build_digest() -> str:
     try:
         from importlib.metadata import version
         h.update(version("pythonfmu").encode())
+        h.update(version("pythonfmu3").encode())
     except Exception:                          # not installed: the build will say so
         pass
     h.update(f"{sys.version_info[:2]}".encode())
@@ -100,17 +113,20 @@ def _build(folder: Path) -> None:
         raise RunFailed(f"building the FMUs failed (python -m pipeplug_fmu build): {last}")
 
 
-def find_fmu(given=None, name: str = "PipePlug.fmu") -> Path:
-    """The FMU file ``name`` to use: ``given`` (``--fmu``), else the cached build's.
+def find_fmu(given=None, name: str = "PipePlug.fmu", fmi: int = 2) -> Path:
+    """The FMU file ``name`` of FMI version ``fmi`` to use: ``given`` (``--fmu``), else the
+    cached build's.
 
     Raises
     ------
     UserError
-        When ``given`` does not exist.
+        When ``given`` does not exist, or ``fmi`` is not one of :data:`FMI_VERSIONS`.
     """
+    if fmi not in FMI_VERSIONS:
+        raise UserError(key="--fmi", value=fmi, allowed=", ".join(map(str, FMI_VERSIONS)))
     if given is not None:
         path = Path(given)
         if not path.exists():
             raise UserError("no such FMU file or folder", file=path)
         return path
-    return cached_build().with_name(name)
+    return (cached_build().parent / _FMI_FOLDER[fmi] / name).resolve()

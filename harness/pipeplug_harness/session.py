@@ -1,12 +1,15 @@
 """The one way the harness drives PipePlug: through the FMU (fmpy) or through the core.
 
-* :class:`FmuSession`: one instance of the FMU through fmpy's raw FMI 2.0 co-simulation API,
-  set up once (start values in initialization mode) and stepped by the caller, so its state
-  carries over from step to step exactly as the FMU keeps it; :meth:`FmuSession.restart` resets
-  it for another run (one instance serves many runs, as in a host).
+* :class:`FmuSession`: one instance of the FMU through fmpy's raw co-simulation API (FMI 2.0 or
+  3.0, as the FMU is), set up once (start values in initialization mode) and stepped by the
+  caller, so its state carries over from step to step exactly as the FMU keeps it;
+  :meth:`FmuSession.restart` resets it for another run (one instance serves many runs, as in a
+  host); with FMI 3.0, :meth:`FmuSession.profiles` reads the profile arrays.
 * :class:`CoreSession`: the core model the FMU wraps (:func:`pipeplug.build_model`), stepped as
   the FMU's ``doStep`` steps it, without the FMI layer.
 * :func:`run_points`: either session through communication points under a :class:`Load`.
+* :func:`fmi_version`: the FMI version of an FMU (2 or 3), checked against the one a command
+  asks for.
 * :func:`simulate`: fmpy's ``simulate_fmu``, as users call it (a piecewise-constant input with
   each change on a duplicated time stamp); a run that ends early (a refused step, which
   ``simulate_fmu`` reports by ending the result early) is :class:`RunFailed`.
@@ -30,7 +33,7 @@ from pipeplug_harness.errors import RunFailed, UserError
 from pipeplug_harness.load import Load
 
 __all__ = ["Session", "FmuSession", "CoreSession", "run_points", "simulate", "unpacked",
-           "split_start_values"]
+           "split_start_values", "fmi_version"]
 
 _UNPACKED: dict[str, str] = {}          # FMU content digest -> its folder in this process
 _TEMP: list[str] = []                   # temporary folders of this process, removed at exit
@@ -77,11 +80,32 @@ def unpacked(fmu) -> str:
     return _UNPACKED[digest]
 
 
+def fmi_version(fmu, expected: int | None = None) -> int:
+    """The FMI version (2 or 3) of the FMU ``fmu``.
+
+    Raises
+    ------
+    UserError
+        When it is neither, or not ``expected`` (the ``--fmi`` a command was given).
+    """
+    from fmpy import read_model_description
+    given = read_model_description(unpacked(fmu), validate=False).fmiVersion
+    version = {"2.0": 2, "3.0": 3}.get(given)
+    if version is None or (expected is not None and version != expected):
+        allowed = f"an FMI {expected}.0 FMU (--fmi {expected})" if expected else "FMI 2.0, 3.0"
+        raise UserError(key="fmiVersion", value=given, allowed=allowed, file=Path(fmu))
+    return version
+
+
 def split_start_values(start_values: dict) -> tuple[dict, dict]:
     """(parameters, options) of FMU start values by contract name."""
     from pipeplug.options import OPTIONS
     options = {k: v for k, v in start_values.items() if k in OPTIONS}
     return {k: v for k, v in start_values.items() if k not in OPTIONS}, options
+
+
+#: fmpy's setter and getter names of the FMI 3.0 types, by the project's (FMI 2.0) kinds.
+_FMI3_TYPES = {"Real": "Float64", "Integer": "Int32", "Boolean": "Boolean", "String": "String"}
 
 
 class Session(Protocol):
@@ -115,19 +139,23 @@ class FmuSession:
     def __init__(self, fmu, start_values: dict | None = None, name: str = "pipeplug"):
         from fmpy import read_model_description
         from fmpy.fmi2 import FMU2Slave
+        from fmpy.fmi3 import FMU3Slave
 
         folder = unpacked(fmu)
         md = read_model_description(folder)
+        self.fmi = fmi_version(folder)
         self._vars = {v.name: v for v in md.modelVariables}
-        self._fmu = FMU2Slave(guid=md.guid, unzipDirectory=folder,
-                              modelIdentifier=md.coSimulation.modelIdentifier,
-                              instanceName=name)
+        slave = FMU3Slave if self.fmi == 3 else FMU2Slave
+        self._fmu = slave(guid=md.guid, unzipDirectory=folder,
+                          modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
         self._fmu.instantiate(loggingOn=False)
+        types = _FMI3_TYPES if self.fmi == 3 else {kind: kind for kind in _FMI3_TYPES}
         self._q = [self._vars["Q"].valueReference]
-        self._read = {kind: ([self._vars[o.name].valueReference for o in OUTPUTS
-                              if o.kind == kind],
-                             [i for i, o in enumerate(OUTPUTS) if o.kind == kind])
-                      for kind in ("Real", "Integer", "Boolean")}
+        self._set_q = getattr(self._fmu, "set" + types["Real"])
+        self._read = [([self._vars[o.name].valueReference for o in OUTPUTS if o.kind == kind],
+                       [i for i, o in enumerate(OUTPUTS) if o.kind == kind],
+                       getattr(self._fmu, "get" + types[kind]))
+                      for kind in ("Real", "Integer", "Boolean")]
         self._fresh = True
         self.steps = 0
         if start_values is not None:
@@ -138,10 +166,15 @@ class FmuSession:
         if not self._fresh:
             self._fmu.reset()
         self._fresh = False
-        self._fmu.setupExperiment(startTime=0.0)
-        self._fmu.enterInitializationMode()
-        for name, value in start_values.items():
-            self._set(name, value)
+        if self.fmi == 3:
+            for name, value in start_values.items():   # structural parameters first
+                self._set(name, value)
+            self._fmu.enterInitializationMode(startTime=0.0)
+        else:
+            self._fmu.setupExperiment(startTime=0.0)
+            self._fmu.enterInitializationMode()
+            for name, value in start_values.items():
+                self._set(name, value)
         self._fmu.exitInitializationMode()
         self.steps = 0
         self._strikes = 0
@@ -149,7 +182,8 @@ class FmuSession:
     def _set(self, name: str, value) -> None:
         """Set one variable with the setter of its FMI type."""
         v = self._vars[name]
-        cast = {"Real": float, "Integer": int, "Boolean": bool, "String": str}[v.type]
+        cast = {"Real": float, "Float64": float, "Integer": int, "Int32": int, "UInt64": int,
+                "Boolean": bool, "String": str}[v.type]
         getattr(self._fmu, "set" + v.type)([v.valueReference], [cast(value)])
 
     def strike(self, velocity: float) -> None:
@@ -162,16 +196,26 @@ class FmuSession:
     def step(self, t: float, h: float, q: float) -> Outputs:
         """Hold Q = ``q`` [N] over the communication step from ``t`` to ``t + h`` [s], then
         read every output."""
-        self._fmu.setReal(self._q, [q])
+        self._set_q(self._q, [q])
         self._fmu.doStep(t, h)
         self.steps += 1
         values = [None] * len(OUTPUTS)
-        for kind, getter in (("Real", self._fmu.getReal), ("Integer", self._fmu.getInteger),
-                             ("Boolean", self._fmu.getBoolean)):
-            refs, where = self._read[kind]
+        for refs, where, getter in self._read:
             for i, value in zip(where, getter(refs)):
                 values[i] = value
         return Outputs(*values)
+
+    def profiles(self, names=None) -> dict:
+        """The profile arrays (FMI 3.0; default all of :data:`pipeplug.PROFILES`) by name,
+        ``profile_points`` values each."""
+        from pipeplug.interface import PROFILES
+        if self.fmi != 3:
+            raise UserError(key="profiles", value="FMI 2.0",
+                            allowed="an FMI 3.0 FMU (profile arrays are FMI 3.0 only)")
+        n = self._fmu.getUInt64([self._vars["profile_points"].valueReference])[0]
+        return {name: np.array(self._fmu.getFloat64([self._vars[name].valueReference],
+                                                    nValues=n))
+                for name in names or [p.name for p in PROFILES]}
 
     def close(self) -> None:
         self._fmu.terminate()

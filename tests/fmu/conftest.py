@@ -14,6 +14,12 @@ def c_host(tmp_path_factory) -> Path:
     return compile_host(tmp_path_factory.mktemp("c_host") / "fmi_host")
 
 
+@pytest.fixture(scope="session")
+def c3_host(tmp_path_factory) -> Path:
+    """``fmi3_host.c`` compiled (plain C FMI 3.0 host: no libpython in it)."""
+    return compile_host(tmp_path_factory.mktemp("c3_host") / "fmi3_host", "fmi3_host.c")
+
+
 @pytest.fixture
 def c_host_env() -> dict:
     """An environment naming this test run's Python (which has numpy) in PIPEPLUG_PYTHON, with

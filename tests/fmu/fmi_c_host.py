@@ -31,10 +31,13 @@ def host_env(**variables) -> dict:
     return env
 
 
-def compile_host(dest: Path) -> Path:
-    """Compile ``fmi_host.c`` into the executable ``dest`` (plain C: no libpython)."""
-    subprocess.run([sys.executable, "-m", "ziglang", "cc", "-O2", "-o", str(dest),
-                    str(HERE / "fmi_host.c")], check=True, capture_output=True)
+def compile_host(dest: Path, source: str = "fmi_host.c", library: bool = False) -> Path:
+    """Compile ``source`` (``fmi_host.c``, FMI 2.0, or ``fmi3_host.c``) into the executable
+    ``dest`` (plain C: no libpython), or with ``library`` into the shared library ``dest`` that
+    ``python_host3.py`` runs."""
+    extra = ["-shared", "-fPIC", "-DPYTHON_HOST"] if library else []
+    subprocess.run([sys.executable, "-m", "ziglang", "cc", "-O2", "-Wall", *extra, "-o",
+                    str(dest), str(HERE / source)], check=True, capture_output=True)
     return dest
 
 

@@ -14,7 +14,7 @@ import textwrap
 import pytest
 
 WORKER = textwrap.dedent('''
-    import json, os, sys
+    import json, sys
     import numpy as np
     from fmpy import read_model_description, simulate_fmu, extract
     from fmpy.fmi3 import FMU3Slave
@@ -87,10 +87,6 @@ WORKER = textwrap.dedent('''
     out["plug_at"] = [run(dict(elastic, x_monitor=0.5 + k * 0.5 / 4), 10) for k in range(5)]
     sys.stdout.write(json.dumps(out) + "\\n")
     sys.stdout.flush()
-    # pythonfmu3's binary releases its interpreter state twice at exit ("corrupted
-    # double-linked list"), as pythonfmu 0.7's does; the FMI 2.0 loader's exit guard has no
-    # FMI 3.0 counterpart yet (docs/fmu.md, "FMI 3.0"), so the worker leaves at once.
-    os._exit(0)
 ''')
 
 
@@ -134,3 +130,19 @@ def test_profile_points_set_and_each_element_is_the_scalar_output_at_its_section
 
 def test_a_serialized_state_restores_the_run_bit_for_bit(report):
     assert report["main"]["again"] == report["main"]["v"]
+
+
+@pytest.mark.parametrize("name", ["PipePlug", "Hammer"])
+def test_documentation_names_every_variable_and_what_fmi3_changes(fmi3_files, name):
+    import zipfile
+
+    from fmpy import read_model_description
+
+    html = zipfile.ZipFile(fmi3_files[name]).read("documentation/index.html").decode()
+    assert "FMI 3.0 co-simulation" in html and "<h2>FMI 3.0</h2>" in html
+    assert "fmi3EnterInitializationMode" in html and f"binaries/x86_64-linux/{name}.so" in html
+    for v in read_model_description(str(fmi3_files[name])).modelVariables:
+        if v.name != "time" and v.name != "profile_points":
+            assert f"<td>{v.name}</td>" in html, v.name
+    if name == "PipePlug":
+        assert "profile_points elements each" in html

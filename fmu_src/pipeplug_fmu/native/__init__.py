@@ -1,9 +1,11 @@
-"""The FMUs' linux64 binary: a small loader in front of pythonfmu's (see ``loader.c``; the other
-sources are its parts: ``python.c`` finds a Python, ``inner.c`` loads pythonfmu's binary and
-guards its exit, ``resources.c`` checks the resource folder, ``states.c`` the FMU states,
-``text.c`` holds text helpers).
+"""The FMUs' linux64 binary: a small loader in front of pythonfmu's (FMI 2.0: ``loader.c`` with
+``fmi2.h``) or pythonfmu3's (FMI 3.0: ``loader3.c`` with ``fmi3.h``). The other sources are
+shared by both versions: ``log.c`` gives lines to the host, ``python.c`` finds a Python,
+``inner.c`` loads pythonfmu's binary and guards its exit, ``resources.c`` checks the resource
+folder, ``states.c`` the FMU states, ``text.c`` holds text helpers.
 
-It is compiled at build time, once per FMU with its model identifier as a compile-time define,
+It is compiled at build time, once per FMU and FMI version with its model identifier and the
+version as compile-time defines,
 with the C compiler of the ``ziglang`` package (``python -m ziglang cc``), for the oldest glibc
 it needs, so the FMU runs on older Linux systems than the one that built it. pythonfmu's own
 binary is shipped beside it under :func:`inner_name`.
@@ -15,9 +17,13 @@ import subprocess
 import sys
 from pathlib import Path
 
-__all__ = ["INNER_NAME", "SOURCES", "TARGET", "compile_loader", "inner_name"]
+__all__ = ["INNER_NAME", "SOURCES", "TARGET", "compile_loader", "inner_name", "platform_folder"]
 
-SOURCES = tuple(sorted(Path(__file__).resolve().parent.glob("*.c")))   # with loader.h
+_HERE = Path(__file__).resolve().parent
+_ENTRY = {2: _HERE / "loader.c", 3: _HERE / "loader3.c"}        # each version's FMI functions
+#: The sources of each FMI version's loader (with loader.h and the version's header).
+SOURCES = {version: tuple(sorted(p for p in _HERE.glob("*.c") if p not in _ENTRY.values()))
+           + (entry,) for version, entry in _ENTRY.items()}
 TARGET = "x86_64-linux-gnu.2.17"           # zig target: x86-64 Linux, glibc >= 2.17
 # nodelete: the loader stays mapped after a host unloads it, like pythonfmu's binary (which
 # glibc never unloads), so the exit handler it registers stays valid until the process exits.
@@ -34,16 +40,25 @@ def inner_name(model_identifier: str) -> str:
 INNER_NAME = inner_name("PipePlug")        # PipePlug.fmu's
 
 
-def compile_loader(dest: Path, model_identifier: str = "PipePlug") -> Path:
-    """Compile the loader's sources for the FMU ``model_identifier`` into the shared library ``dest``.
+def platform_folder(version: int) -> str:
+    """The FMU's folder of linux64 binaries in FMI ``version`` (2 or 3)."""
+    return "binaries/x86_64-linux" if version == 3 else "binaries/linux64"
+
+
+def compile_loader(dest: Path, model_identifier: str = "PipePlug", version: int = 2) -> Path:
+    """Compile the FMI ``version`` (2 or 3) loader for the FMU ``model_identifier`` into the
+    shared library ``dest``.
 
     Returns ``dest``. Raises ValueError for an identifier that is not a C identifier, and
     RuntimeError with the compiler's messages when compiling fails.
     """
     if not _IDENTIFIER.fullmatch(model_identifier):
         raise ValueError(f"model identifier {model_identifier!r} is not a C identifier")
+    if version not in SOURCES:
+        raise ValueError(f"FMI version {version!r} is not allowed; allowed: 2, 3")
     cmd = [sys.executable, "-m", "ziglang", "cc", *_FLAGS, f"-DMODEL_IDENTIFIER={model_identifier}",
-           "-target", TARGET, "-o", str(dest), *map(str, SOURCES)]
+           f"-DFMI_VERSION={version}", "-target", TARGET, "-o", str(dest),
+           *map(str, SOURCES[version])]
     proc = subprocess.run(cmd, capture_output=True, text=True, check=False)
     if proc.returncode != 0:
         raise RuntimeError(f"compiling the FMU's loader failed ({' '.join(cmd)}):\n"

@@ -1,7 +1,9 @@
 /* The FMI 2.0 binary, on linux64, of the project's pythonfmu FMUs (PipePlug.fmu, Hammer.fmu).
  *
- * Compiled once per FMU with -DMODEL_IDENTIFIER=<its modelIdentifier> (say PipePlug) and shipped
- * as binaries/linux64/PipePlug.so; every name below that belongs to one FMU derives from it.
+ * Compiled once per FMU with -DMODEL_IDENTIFIER=<its modelIdentifier> (say PipePlug) and
+ * -DFMI_VERSION=2, and shipped as binaries/linux64/PipePlug.so; every name below that belongs to
+ * one FMU derives from it. The parts it shares with the FMI 3.0 loader (loader3.c) are the other
+ * sources: log.c (P1, P3 below), python.c, inner.c, resources.c, states.c and text.c.
  *
  * pythonfmu's binary (shipped beside this one as PipePlug_pythonfmu.so) runs the slave in a
  * Python interpreter that must already be in the process: it is not linked to libpython. This
@@ -46,82 +48,16 @@
 static pthread_mutex_t load_lock = PTHREAD_MUTEX_INITIALIZER;
 static int loaded;                          /* inner is complete */
 
-/* Logging ------------------------------------------------------------------------------------ */
-static const char *const CATEGORIES[] = {"logAll", "logStatusWarning", "logStatusDiscard",
-                                         "logStatusError", "logStatusFatal"};
-#define N_CATEGORIES (sizeof CATEGORIES / sizeof *CATEGORIES)
-
-/* The index in CATEGORIES of `name`, or -1. */
-static int category_index(const char *name) {
-    for (size_t i = 0; name != NULL && i < N_CATEGORIES; i++)
-        if (strcmp(name, CATEGORIES[i]) == 0) return (int)i;
-    return -1;
-}
-
-/* The category of a line: its own if modelDescription.xml lists it, else its status's. */
-static const char *category_of(const char *given, fmi2Status status) {
-    int own = category_index(given);
-    if (own >= 0) return CATEGORIES[own];
-    return CATEGORIES[status >= fmi2Warning && status <= fmi2Fatal ? status : 0];
-}
-
+/* Logging (the rest is log.c) ------------------------------------------------------------- */
 static void buffer_line(fmi2ComponentEnvironment env, fmi2String name, fmi2Status status,
                         fmi2String category, fmi2String message, ...) {
     (void)name;
-    Instance *in = env;
-    if (in->n_lines == in->cap_lines) {
-        size_t cap = in->cap_lines ? 2 * in->cap_lines : 4;
-        Line *lines = realloc(in->lines, cap * sizeof *lines);
-        if (lines == NULL) return;
-        in->lines = lines, in->cap_lines = cap;
-    }
-    in->lines[in->n_lines++] = (Line){status, category ? strdup(category) : NULL,
-                                      strdup(message ? message : "")};
+    keep_line(env, status, category, message);
 }
 
-static void to_host(const Instance *in, fmi2Status status, const char *category,
-                    const char *message) {
+void to_host(const Instance *in, fmi2Status status, const char *category, const char *message) {
     if (in->host.logger != NULL)
         in->host.logger(in->host.componentEnvironment, in->name, status, category, message);
-}
-
-/* Whether a line of this status and category reaches the host (see the header). */
-static int shown(const Instance *in, fmi2Status status, const char *category) {
-    if (status >= fmi2Warning && status <= fmi2Fatal) return 1;
-    int bit = category_index(category);
-    return in->logging_on && (in->categories == 0 || (in->categories & 1u)
-                              || (bit >= 0 && (in->categories >> bit) & 1u));
-}
-
-void host_log(const Instance *in, fmi2Status status, const char *message) {
-    to_host(in, status, category_of(NULL, status), message);
-}
-
-fmi2Status refuse(Instance *in, Text *why) {
-    host_log(in, fmi2Error, why->data ? why->data : MODEL ": refused");
-    free(why->data);
-    in->failed = 1;
-    return fmi2Error;
-}
-
-fmi2Status finish(Instance *in, fmi2Status status) {
-    int refused = 0;
-    for (size_t i = 0; i < in->n_lines; i++) {
-        Line *line = &in->lines[i];
-        const char *message = line->message, *refusal = strstr(message, REFUSAL);
-        if (line->status == fmi2Fatal && refusal != NULL) {
-            line->status = fmi2Error, message = refusal + strlen(REFUSAL), refused = 1;
-            free(line->category);
-            line->category = NULL;
-        }
-        const char *category = category_of(line->category, line->status);
-        if (shown(in, line->status, category)) to_host(in, line->status, category, message);
-        free(line->category), free(line->message);
-    }
-    in->n_lines = 0;
-    if (refused && status == fmi2Fatal) status = fmi2Error;
-    if (status == fmi2Error || status == fmi2Fatal) in->failed = 1;
-    return status;
 }
 
 /* Instantiation ------------------------------------------------------------------------------- */
@@ -254,8 +190,7 @@ EXPORT fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean on, size_t n,
             Text why = {0};
             text_printf(&why, "categories[%zu] = ", i);
             text_shown(&why, categories[i], categories[i] ? strlen(categories[i]) : 0, 100);
-            text_printf(&why, " is not allowed; allowed: logAll, logStatusWarning, "
-                        "logStatusDiscard, logStatusError, logStatusFatal");
+            text_printf(&why, " is not allowed; allowed: " CATEGORY_NAMES);
             return refuse(in, &why);
         }
         mask |= 1u << bit;

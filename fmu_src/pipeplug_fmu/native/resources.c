@@ -9,7 +9,8 @@
  * /proc/self/fd/N of a descriptor kept open for the process's life. A NULL location, or one that
  * is neither a file URI nor an absolute path (a relative path, another scheme), means the
  * resources beside this binary. A malformed or too long file URI, or a folder without this
- * build's resources, is refused with one line.
+ * build's resources, is refused with one line. FMI 3.0 gives a path (resourcePath), not a URI:
+ * an absolute path is taken as it is (no %XX decoding); a file URI is still understood.
  */
 #include "loader.h"
 
@@ -49,6 +50,15 @@ static int decoded_path(const char *uri, char *out, size_t size, const char **wr
         }
     } else if (*p != '/') {
         return 1;
+    } else if (FMI_VERSION == 3) {             /* FMI 3.0: a path, taken as it is */
+        if (strlen(p) + 1 > size) {
+            *wrong = "an absolute path shorter than 4096 bytes";
+            return -1;
+        }
+        strcpy(out, p);
+        size_t n = strlen(out);
+        while (n > 1 && out[n - 1] == '/') out[--n] = '\0';
+        return 0;
     }
     size_t n = 0;
     for (; *p && *p != '?' && *p != '#'; p++) {
@@ -104,10 +114,10 @@ static int slave_module(const char *folder, char *module, size_t size) {
 
 /* Refuse `location`: one line naming it, why, and what is allowed. */
 static int refused(Text *why, const char *location, const char *allowed) {
-    text_printf(why, "fmuResourceLocation = ");
+    text_printf(why, RESOURCE_ARGUMENT " = ");
     text_shown(why, location, strlen(location), 200);
-    text_printf(why, " is not allowed; allowed: %s (the URI of " MODEL "'s resources folder, "
-                "file:///path/to/resources; NULL for the resources beside this binary)", allowed);
+    text_printf(why, " is not allowed; allowed: %s (" RESOURCE_SPELLING "; NULL for the "
+                "resources beside this binary)", allowed);
     return -1;
 }
 
@@ -121,7 +131,7 @@ int resource_uri(const char *location, char *uri, size_t size, Text *why) {
     if (kind == 1) {
         if (!have_own) {
             text_printf(why, MODEL " cannot find its resources beside its binary; give their "
-                        "folder as fmuResourceLocation (file:///path/to/resources)");
+                        "folder as " RESOURCE_ARGUMENT " (" RESOURCE_EXAMPLE ")");
             return -1;
         }
         snprintf(folder, sizeof folder, "%s", own);

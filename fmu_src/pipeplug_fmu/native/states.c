@@ -8,10 +8,11 @@
  * are freed with it.
  *
  * A serialized state is a 32-byte header and pythonfmu's bytes (the payload): the magic
- * "FMI2STAT", the identity of the FMU and build (build_identity), the payload's length and its
- * FNV-1a hash, each 8 bytes, little-endian. fmi2DeSerializeFMUstate refuses bytes of another
- * FMU or build, of the wrong length or whose hash differs; fmi2SerializeFMUstate refuses a
- * buffer smaller than the state. What the bytes hold is checked by the slave when it is set.
+ * STATE_MAGIC ("FMI2STAT", "FMI3STAT"), the identity of the FMU and build (build_identity), the
+ * payload's length and its FNV-1a hash, each 8 bytes, little-endian. Deserializing refuses
+ * bytes of another FMU, build or FMI version, of the wrong length or whose hash differs;
+ * serializing refuses a buffer smaller than the state. What the bytes hold is checked by the
+ * slave when it is set. The calls and words in lines are the version's (fmi2.h, fmi3.h).
  */
 #include "loader.h"
 
@@ -21,12 +22,12 @@
 #include <time.h>
 #include <unistd.h>
 
-#define MAGIC "FMI2STAT"
+#define MAGIC STATE_MAGIC
 #define HEADER 32
 
 typedef struct Record {
     uint64_t handle;
-    fmi2FMUstate inner;        /* pythonfmu's state */
+    FmuState inner;        /* pythonfmu's state */
     Instance *owner;           /* the instance it was obtained through */
     struct Record *next;
 } Record;
@@ -47,7 +48,7 @@ static uint64_t new_handle(void) {
 }
 
 /* The live record of `handle`, or NULL. */
-static Record *find(fmi2FMUstate handle) {
+static Record *find(FmuState handle) {
     pthread_mutex_lock(&lock);
     Record *r = records;
     while (r != NULL && r->handle != (uint64_t)(uintptr_t)handle) r = r->next;
@@ -55,14 +56,14 @@ static Record *find(fmi2FMUstate handle) {
     return r;
 }
 
-static fmi2FMUstate add(Instance *in, fmi2FMUstate inner_state) {
+static FmuState add(Instance *in, FmuState inner_state) {
     Record *r = calloc(1, sizeof *r);
     if (r == NULL) return NULL;
     pthread_mutex_lock(&lock);
     *r = (Record){new_handle(), inner_state, in, records};
     records = r;
     pthread_mutex_unlock(&lock);
-    return (fmi2FMUstate)(uintptr_t)r->handle;
+    return (FmuState)(uintptr_t)r->handle;
 }
 
 static void drop(Record *gone) {
@@ -77,7 +78,7 @@ static void drop(Record *gone) {
 }
 
 /* Refuse a state argument `name` with value `handle` (or a NULL pointer to one). */
-static fmi2Status refuse_state(Instance *in, const char *call, const char *name,
+static Status refuse_state(Instance *in, const char *call, const char *name,
                                const void *handle, const char *allowed) {
     Text why = {0};
     if (handle == NULL) text_printf(&why, "%s = NULL", name);
@@ -86,52 +87,58 @@ static fmi2Status refuse_state(Instance *in, const char *call, const char *name,
     return refuse(in, &why);
 }
 
-#define LIVE "a live state of this " MODEL " (from fmi2GetFMUstate or fmi2DeSerializeFMUstate, " \
+#define GET_NAME STRING_OF(STATE_GET)
+#define SET_NAME STRING_OF(STATE_SET)
+#define FREE_NAME STRING_OF(STATE_FREE)
+#define SIZE_NAME STRING_OF(STATE_SIZE)
+#define SERIALIZE_NAME STRING_OF(STATE_SERIALIZE)
+#define DESERIALIZE_NAME STRING_OF(STATE_DESERIALIZE)
+#define LIVE "a live state of this " MODEL " (from " GET_NAME " or " DESERIALIZE_NAME ", " \
              "not freed, not of another FMU)"
 
 /* Store a new pythonfmu state in *state: into its record if *state is a live handle (FMI:
  * the state is overwritten), else under a new handle. */
-static fmi2Status keep(Instance *in, fmi2FMUstate *state, fmi2FMUstate fresh) {
+static Status keep(Instance *in, FmuState *state, FmuState fresh) {
     Record *r = *state != NULL ? find(*state) : NULL;
     if (r != NULL) {
-        fmi2FMUstate old = r->inner;
+        FmuState old = r->inner;
         r->inner = fresh;
-        inner.fmi2FreeFMUstate(in->inner, &old);
-        return fmi2OK;
+        inner.STATE_FREE(in->inner, &old);
+        return ST_OK;
     }
     *state = add(in, fresh);
-    if (*state != NULL) return fmi2OK;
-    inner.fmi2FreeFMUstate(in->inner, &fresh);
+    if (*state != NULL) return ST_OK;
+    inner.STATE_FREE(in->inner, &fresh);
     Text why = {0};
-    text_printf(&why, "FMUstate cannot be kept: out of memory");
+    text_printf(&why, STATE_WORD " cannot be kept: out of memory");
     return refuse(in, &why);
 }
 
-fmi2Status state_get(Instance *in, fmi2FMUstate *state) {
+Status state_get(Instance *in, FmuState *state) {
     if (state == NULL)
-        return refuse_state(in, "fmi2GetFMUstate", "FMUstate", NULL, "a pointer to a variable");
-    fmi2FMUstate fresh = NULL;
-    fmi2Status status = finish(in, inner.fmi2GetFMUstate(in->inner, &fresh));
-    if (status > fmi2Warning) return status;
+        return refuse_state(in, GET_NAME, STATE_WORD, NULL, "a pointer to a variable");
+    FmuState fresh = NULL;
+    Status status = finish(in, inner.STATE_GET(in->inner, &fresh));
+    if (status > ST_WARNING) return status;
     return keep(in, state, fresh);
 }
 
-fmi2Status state_set(Instance *in, fmi2FMUstate state) {
+Status state_set(Instance *in, FmuState state) {
     Record *r = state != NULL ? find(state) : NULL;
-    if (r == NULL) return refuse_state(in, "fmi2SetFMUstate", "FMUstate", state, LIVE);
-    return finish(in, inner.fmi2SetFMUstate(in->inner, r->inner));
+    if (r == NULL) return refuse_state(in, SET_NAME, STATE_WORD, state, LIVE);
+    return finish(in, inner.STATE_SET(in->inner, r->inner));
 }
 
-fmi2Status state_free(Instance *in, fmi2FMUstate *state) {
+Status state_free(Instance *in, FmuState *state) {
     if (state == NULL)
-        return refuse_state(in, "fmi2FreeFMUstate", "FMUstate", NULL, "a pointer to a state");
-    if (*state == NULL) return fmi2OK;                      /* FMI: ignored */
+        return refuse_state(in, FREE_NAME, STATE_WORD, NULL, "a pointer to a state");
+    if (*state == NULL) return ST_OK;                      /* FMI: ignored */
     Record *r = find(*state);
-    if (r == NULL) return refuse_state(in, "fmi2FreeFMUstate", "*FMUstate", *state, LIVE);
-    inner.fmi2FreeFMUstate(in->inner, &r->inner);
+    if (r == NULL) return refuse_state(in, FREE_NAME, "*" STATE_WORD, *state, LIVE);
+    inner.STATE_FREE(in->inner, &r->inner);
     drop(r);
     *state = NULL;
-    return fmi2OK;
+    return ST_OK;
 }
 
 void states_of_instance_free(Instance *in) {
@@ -144,60 +151,60 @@ void states_of_instance_free(Instance *in) {
             continue;
         }
         *r = gone->next;
-        inner.fmi2FreeFMUstate(in->inner, &gone->inner);
+        inner.STATE_FREE(in->inner, &gone->inner);
         free(gone);
     }
     pthread_mutex_unlock(&lock);
 }
 
 /* The length of pythonfmu's bytes of the state of record `r` into *n; its status. */
-static fmi2Status payload_size(Instance *in, Record *r, size_t *n) {
+static Status payload_size(Instance *in, Record *r, size_t *n) {
     *n = 0;
-    return finish(in, inner.fmi2SerializedFMUstateSize(in->inner, r->inner, n));
+    return finish(in, inner.STATE_SIZE(in->inner, r->inner, n));
 }
 
-fmi2Status state_size(Instance *in, fmi2FMUstate state, size_t *size) {
+Status state_size(Instance *in, FmuState state, size_t *size) {
     Record *r = state != NULL ? find(state) : NULL;
-    if (r == NULL) return refuse_state(in, "fmi2SerializedFMUstateSize", "FMUstate", state, LIVE);
+    if (r == NULL) return refuse_state(in, SIZE_NAME, STATE_WORD, state, LIVE);
     if (size == NULL)
-        return refuse_state(in, "fmi2SerializedFMUstateSize", "size", NULL,
+        return refuse_state(in, SIZE_NAME, "size", NULL,
                             "a pointer to a size_t");
     size_t n;
-    fmi2Status status = payload_size(in, r, &n);
-    if (status <= fmi2Warning) *size = HEADER + n;
+    Status status = payload_size(in, r, &n);
+    if (status <= ST_WARNING) *size = HEADER + n;
     return status;
 }
 
-static void put64(fmi2Byte *at, uint64_t value) {
-    for (int i = 0; i < 8; i++) at[i] = (fmi2Byte)(value >> (8 * i));
+static void put64(Byte *at, uint64_t value) {
+    for (int i = 0; i < 8; i++) at[i] = (Byte)(value >> (8 * i));
 }
 
-static uint64_t get64(const fmi2Byte *at) {
+static uint64_t get64(const Byte *at) {
     uint64_t value = 0;
     for (int i = 0; i < 8; i++) value |= (uint64_t)(unsigned char)at[i] << (8 * i);
     return value;
 }
 
-fmi2Status state_serialize(Instance *in, fmi2FMUstate state, fmi2Byte bytes[], size_t size) {
+Status state_serialize(Instance *in, FmuState state, Byte bytes[], size_t size) {
     Record *r = state != NULL ? find(state) : NULL;
-    if (r == NULL) return refuse_state(in, "fmi2SerializeFMUstate", "FMUstate", state, LIVE);
+    if (r == NULL) return refuse_state(in, SERIALIZE_NAME, STATE_WORD, state, LIVE);
     if (bytes == NULL)
-        return refuse_state(in, "fmi2SerializeFMUstate", "serializedState", NULL,
-                            "an array of fmi2SerializedFMUstateSize bytes");
+        return refuse_state(in, SERIALIZE_NAME, "serializedState", NULL,
+                            "an array of " SIZE_NAME " bytes");
     size_t n;
-    fmi2Status status = payload_size(in, r, &n);
-    if (status > fmi2Warning) return status;
+    Status status = payload_size(in, r, &n);
+    if (status > ST_WARNING) return status;
     if (size < HEADER + n) {
         Text why = {0};
-        text_printf(&why, "size = %zu is not allowed in fmi2SerializeFMUstate; allowed: >= %zu "
-                    "(fmi2SerializedFMUstateSize of this state)", size, HEADER + n);
+        text_printf(&why, "size = %zu is not allowed in " SERIALIZE_NAME "; allowed: >= %zu "
+                    "(" SIZE_NAME " of this state)", size, HEADER + n);
         return refuse(in, &why);
     }
-    char *payload = malloc(n + 1);
-    if (payload == NULL) return refuse_state(in, "fmi2SerializeFMUstate", "FMUstate", state,
+    Byte *payload = malloc(n + 1);
+    if (payload == NULL) return refuse_state(in, SERIALIZE_NAME, STATE_WORD, state,
                                              "a state that fits in memory");
-    status = finish(in, inner.fmi2SerializeFMUstate(in->inner, r->inner, payload, n));
-    if (status <= fmi2Warning) {
+    status = finish(in, inner.STATE_SERIALIZE(in->inner, r->inner, payload, n));
+    if (status <= ST_WARNING) {
         memcpy(bytes, MAGIC, 8);
         put64(bytes + 8, build_identity);
         put64(bytes + 16, n);
@@ -209,7 +216,7 @@ fmi2Status state_serialize(Instance *in, fmi2FMUstate state, fmi2Byte bytes[], s
 }
 
 /* What is wrong with `bytes` as a serialized state of this FMU and build, NULL if nothing. */
-static const char *framing_error(const fmi2Byte bytes[], size_t size) {
+static const char *framing_error(const Byte bytes[], size_t size) {
     if (size < HEADER) return "a serialized state of this " MODEL " build (it is shorter than "
                               "the 32-byte header)";
     if (memcmp(bytes, MAGIC, 8) != 0 || get64(bytes + 8) != build_identity)
@@ -222,24 +229,24 @@ static const char *framing_error(const fmi2Byte bytes[], size_t size) {
     return NULL;
 }
 
-fmi2Status state_deserialize(Instance *in, const fmi2Byte bytes[], size_t size,
-                             fmi2FMUstate *state) {
+Status state_deserialize(Instance *in, const Byte bytes[], size_t size,
+                             FmuState *state) {
     if (state == NULL)
-        return refuse_state(in, "fmi2DeSerializeFMUstate", "FMUstate", NULL,
+        return refuse_state(in, DESERIALIZE_NAME, STATE_WORD, NULL,
                             "a pointer to a variable");
     if (bytes == NULL)
-        return refuse_state(in, "fmi2DeSerializeFMUstate", "serializedState", NULL,
-                            "the bytes of fmi2SerializeFMUstate");
+        return refuse_state(in, DESERIALIZE_NAME, "serializedState", NULL,
+                            "the bytes of " SERIALIZE_NAME);
     const char *wrong = framing_error(bytes, size);
     if (wrong != NULL) {
         Text why = {0};
         text_printf(&why, "serializedState of size = %zu is not allowed in "
-                    "fmi2DeSerializeFMUstate; allowed: %s", size, wrong);
+                    DESERIALIZE_NAME "; allowed: %s", size, wrong);
         return refuse(in, &why);
     }
-    fmi2FMUstate fresh = NULL;
-    fmi2Status status = finish(in, inner.fmi2DeSerializeFMUstate(in->inner, bytes + HEADER,
+    FmuState fresh = NULL;
+    Status status = finish(in, inner.STATE_DESERIALIZE(in->inner, bytes + HEADER,
                                                                  size - HEADER, &fresh));
-    if (status > fmi2Warning) return status;
+    if (status > ST_WARNING) return status;
     return keep(in, state, fresh);
 }

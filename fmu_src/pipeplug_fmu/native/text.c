@@ -28,7 +28,7 @@ void text_printf(Text *t, const char *format, ...) {
     size_t len = (size_t)n < sizeof buffer ? (size_t)n : sizeof buffer - 1;
     for (size_t i = 0; i < len; i++) {
         text_add(t, &buffer[i], 1);
-        if (buffer[i] == '%') text_add(t, "%", 1);
+        if (ESCAPE_PERCENT && buffer[i] == '%') text_add(t, "%", 1);
     }
 }
 
@@ -40,7 +40,7 @@ void text_shown(Text *t, const char *s, size_t n, size_t max) {
     text_add(t, "'", 1);
     for (size_t i = 0; i < n && i < max; i++) {
         unsigned char c = (unsigned char)s[i];
-        if (c == '%') text_add(t, "%%", 2);              /* hosts printf the line */
+        if (c == '%') text_add(t, "%%", ESCAPE_PERCENT ? 2 : 1);   /* FMI 2.0 hosts printf */
         else if (c == '\'' || c == '\\') text_printf(t, "\\%c", c);
         else if (c >= 0x20 && c < 0x7f) text_add(t, (const char *)&c, 1);
         else text_printf(t, "\\x%02x", c);

@@ -1,4 +1,6 @@
-"""``pipeplug figures``: the paper's Figs. 3, 4, 5, 6a, 6b and 7 redrawn from FMU runs.
+"""``pipeplug figures``: the paper's Figs. 3, 4, 5, 6a, 6b and 7 redrawn from FMU runs, and
+with ``--fmi 3`` the axial stress along the pipe from the FMI 3.0 profile arrays
+(``stress``, :mod:`~pipeplug_harness.figures.stress`).
 
 Parameters come from the captions and the text (section 3; docs/corrections.md C1-C8, D1, F). Each panel
 shows the FMU's pipe velocity (solid) and plug velocity (dash-dot) with the reference overlaid
@@ -16,15 +18,18 @@ from pathlib import Path
 import numpy as np
 
 from pipeplug_harness import io
-from pipeplug_harness.fmus import find_fmu
+from pipeplug_harness.errors import UserError
+from pipeplug_harness.figures.stress import draw_stress_profiles
+from pipeplug_harness.fmus import add_fmi_argument, find_fmu
 from pipeplug_harness.load import Load
 from pipeplug_harness.paper import T_FIG7
-from pipeplug_harness.session import simulate
+from pipeplug_harness.session import fmi_version, simulate
 from pipeplug_references import closed_form as cf
 
 BASE = cf.Case()
 MPA = 1e6
-FIGURES = ("3", "4", "5", "6a", "6b", "7")
+FIGURES = ("3", "4", "5", "6a", "6b", "7", "stress")
+FMI3_ONLY = ("stress",)               # drawn from the profile arrays of the FMI 3.0 FMU
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -32,7 +37,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                                       "once into the user's cache)")
     parser.add_argument("--out", default="out/figures", help="output folder (%(default)s)")
     parser.add_argument("--only", nargs="*", default=None, choices=FIGURES, metavar="FIGURE",
-                        help=f"figures to draw, among {' '.join(FIGURES)} (default: all)")
+                        help=f"figures to draw, among {' '.join(FIGURES)} (default: all; "
+                             f"{', '.join(FMI3_ONLY)} with --fmi 3 only)")
+    add_fmi_argument(parser)
 
 
 def _label(case: cf.Case) -> str:
@@ -144,10 +151,21 @@ def draw_fig7(path: Path, fmu) -> Path:
 
 
 def main(args: argparse.Namespace) -> int:
-    fmu = find_fmu(args.fmu)
+    figures = args.only or [f for f in FIGURES if args.fmi == 3 or f not in FMI3_ONLY]
+    for fig in figures:
+        if fig in FMI3_ONLY and args.fmi != 3:
+            raise UserError(key="--only", value=fig, allowed="with --fmi 3 (it is drawn from "
+                                                             "the FMI 3.0 profile arrays)")
+    fmu = find_fmu(args.fmu, fmi=args.fmi)
+    fmi_version(fmu, args.fmi)
     with io.OutputFolder(args.out, "figures") as out:
-        for fig in args.only or FIGURES:
-            target = out.file(f"fig{fig}.png")
-            path = draw_fig7(target, fmu) if fig == "7" else draw_rigid_figure(fig, target, fmu)
+        for fig in figures:
+            target = out.file(f"fig{fig}.png" if fig not in FMI3_ONLY else f"{fig}_profile.png")
+            if fig == "7":
+                path = draw_fig7(target, fmu)
+            elif fig == "stress":
+                path = draw_stress_profiles(target, fmu, out.file("stress_profile.csv"))
+            else:
+                path = draw_rigid_figure(fig, target, fmu)
             print(f"wrote {path}", flush=True)
     return 0

@@ -5,13 +5,18 @@ duration off the communication grid, friction levels across all five domains) th
 FMU with fmpy, for each rigid solver, and compares every output with the independent closed
 form. Prints a table of maximum errors, writes it as CSV, writes the FMI cross-check files
 ``PipePlug_in.csv``, ``PipePlug_ref.csv``, ``PipePlug_ref.opt``, and exits non-zero if any
-case fails its tolerance (usable in a CI pipeline).
+case fails its tolerance (usable in a CI pipeline). ``--fmi 3`` does the same with the FMI 3.0
+FMU, and writes its cross-check files in the folders of the cross-check rules' layout,
+``fmus/3.0/cs/x86_64-linux/PipePlug/<version>/PipePlug/`` (FMI 3.0's platform name; the tool
+is this project at its version), the FMU beside them.
 """
 from __future__ import annotations
 
 import argparse
 import math
+import shutil
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 
@@ -19,7 +24,7 @@ from pipeplug import PARAMETERS
 from pipeplug_fmu.fmi import DEFAULT_EXPERIMENT
 from pipeplug_harness import io
 from pipeplug_harness.errors import UserError
-from pipeplug_harness.fmus import find_fmu
+from pipeplug_harness.fmus import add_fmi_argument, find_fmu
 from pipeplug_harness.load import Load
 from pipeplug_harness.paper import (
     PARAMETER_UNITS,
@@ -29,7 +34,7 @@ from pipeplug_harness.paper import (
     T0,
     rigid_values,
 )
-from pipeplug_harness.session import simulate
+from pipeplug_harness.session import fmi_version, simulate
 from pipeplug_references import closed_form as cf
 
 #: solver -> (FMU start values, tolerance on errors relative to the peaks)
@@ -45,6 +50,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--seed", type=int, default=2024, help="random seed (%(default)s)")
     parser.add_argument("--step", type=float, default=1e-3,
                         help="communication step [s] (%(default)s)")
+    add_fmi_argument(parser)
 
 
 def cases(n_random: int, seed: int) -> list[tuple[str, cf.Case]]:
@@ -92,7 +98,8 @@ def main(args: argparse.Namespace) -> int:
     args.limits.check("steps", 1.0 / args.step, f"--step {args.step!r} s over a case of up to 1 s")
     args.limits.check("cases", args.random, f"--random {args.random}")
     args.limits.memory(2 * args.random * 20, f"--random {args.random} cases' rows")
-    fmu = find_fmu(args.fmu)
+    fmu = find_fmu(args.fmu, fmi=args.fmi)
+    fmi_version(fmu, args.fmi)
     with io.OutputFolder(args.out, "validate") as out:
         rows, failures = [], 0
         for name, case in cases(args.random, args.seed):
@@ -108,7 +115,9 @@ def main(args: argparse.Namespace) -> int:
         io.write_records(out.file("validate.csv"), rows,
                          units={"tau1": PARAMETER_UNITS["tau1"], "tau2": PARAMETER_UNITS["tau2"],
                                 "Q0": "N", "t0": "s"})
-        write_cross_check(out)
+        write_cross_check(out, args.fmi)
+        if args.fmi == 3 and Path(fmu).is_file():        # the rules' layout holds the FMU
+            shutil.copyfile(fmu, _cross_check_file(out, 3, "PipePlug.fmu"))
     print(_table(rows))
     print(f"\n{len(rows) - failures} passed, {failures} failed")
     return 1 if failures else 0
@@ -134,9 +143,31 @@ CROSS_CHECK_BLOW = (0.0, T0, Q0)
 CROSS_CHECK_COLUMNS = {**SYMBOLS, "W_input": "W_input", "W_friction": "W_friction"}
 
 
-def write_cross_check(out) -> None:
+#: Where the FMI 3.0 cross-check files go in the output folder: the cross-check rules' layout
+#: ``fmus/<FMI version>/<type>/<platform>/<tool>/<tool version>/<model>`` with FMI 3.0's name
+#: of the platform the loader runs on.
+CROSS_CHECK_3 = ("fmus", "3.0", "cs", "x86_64-linux")
+
+
+def _cross_check_prefix(fmi: int) -> str:
+    """Where the cross-check files go in the output folder: at its top (FMI 2.0), or in the
+    rules' layout (FMI 3.0), the tool being this project at its version."""
+    if fmi == 2:
+        return ""
+    from pipeplug import __version__
+    return "/".join((*CROSS_CHECK_3, "PipePlug", __version__, "PipePlug")) + "/"
+
+
+def _cross_check_file(out, fmi: int, name: str) -> Path:
+    path = out.file(_cross_check_prefix(fmi) + name)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    return path
+
+
+def write_cross_check(out, fmi: int = 2) -> Path:
     """FMI cross-check files ``PipePlug_in.csv``, ``PipePlug_ref.csv``, ``PipePlug_ref.opt``
-    into the output folder ``out``.
+    into the output folder ``out`` (FMI 2.0), or into its cross-check layout's folder (FMI
+    3.0: :data:`CROSS_CHECK_3`); returns their folder.
 
     The case is the FMU at its default start values (the cross-check rules simulate the FMU
     with its defaults and the ``_in.csv`` input), the reference the closed form of that case at
@@ -148,13 +179,15 @@ def write_cross_check(out) -> None:
                    Q0=CROSS_CHECK_BLOW[2], t0=CROSS_CHECK_BLOW[1])
     start, stop, step = DEFAULT_EXPERIMENT
     signal = Load.from_pulses([CROSS_CHECK_BLOW]).signal(stop)
-    io.write_csv(out.file("PipePlug_in.csv"), ["time", "Q"], signal[["time", "Q"]].tolist(),
+    io.write_csv(_cross_check_file(out, fmi, "PipePlug_in.csv"), ["time", "Q"], signal[["time", "Q"]].tolist(),
                  titles=["time", "Q"])
     t = np.linspace(start, stop, round((stop - start) / step) + 1)
     ref = cf.solution(case, t)
     names = ["time", *CROSS_CHECK_COLUMNS]
-    io.write_csv(out.file("PipePlug_ref.csv"), names,
+    io.write_csv(_cross_check_file(out, fmi, "PipePlug_ref.csv"), names,
                  ([ti] + [ref[k][i] for k in CROSS_CHECK_COLUMNS.values()]
                   for i, ti in enumerate(t)), titles=names)
-    out.file("PipePlug_ref.opt").write_text(
+    opt = _cross_check_file(out, fmi, "PipePlug_ref.opt")
+    opt.write_text(
         f"StartTime, {start!r}\nStopTime, {stop!r}\nStepSize, {step!r}\nRelTol, 1e-09\n")
+    return opt.parent

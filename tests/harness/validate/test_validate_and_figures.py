@@ -90,3 +90,53 @@ def test_figures_draws_pngs(pipeplug_cli, fmu_file, tmp_path):
     for name in ("fig4.png", "fig6b.png"):
         data = (tmp_path / "f" / name).read_bytes()
         assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 20_000
+
+
+def test_fmi3_cross_check_files_in_the_rules_layout_pass_as_a_third_party(fmi3_files, tmp_path):
+    """validate --fmi 3 writes the cross-check files under fmus/3.0/cs/x86_64-linux/<tool>/
+    <version>/PipePlug/; the FMI 3.0 FMU run on them as the rules run it passes."""
+    from pipeplug import __version__
+    from pipeplug_harness import io
+    from pipeplug_harness.validate.command import write_cross_check
+    with io.OutputFolder(tmp_path / "v", "validate") as out:
+        folder = write_cross_check(out, 3)
+    assert folder == tmp_path.joinpath("v", "fmus", "3.0", "cs", "x86_64-linux", "PipePlug",
+                                       __version__, "PipePlug")
+    cross_check_as_a_third_party(fmi3_files["PipePlug"], folder)
+
+
+@pytest.mark.parametrize("command", ["validate", "figures"])
+def test_an_fmu_of_another_fmi_version_is_a_one_line_mistake(pipeplug_cli, fmu_file, command,
+                                                            tmp_path):
+    proc = pipeplug_cli(command, "--fmi", "3", "--fmu", fmu_file, "--out", tmp_path / "x",
+                        check=False)
+    assert proc.returncode == 2 and len(proc.stderr.splitlines()) == 1, proc.stderr
+    assert "fmiVersion = '2.0'; allowed: an FMI 3.0 FMU (--fmi 3)" in proc.stderr
+
+
+def test_stress_profile_figure_from_the_fmi3_fmu_follows_dalembert_without_friction(
+        pipeplug_cli, fmi3_files, tmp_path):
+    """figures --fmi 3 --only stress: without friction the FMU's stress_pipe_profile is, at
+    every section more than one grid cell from a front, d'Alembert's free rod (derived here):
+    the blow's wave of -Q/S1 between its front x = c t and tail x = c (t - T), and its
+    reflection at the free end x = L with the opposite sign."""
+    pipeplug_cli("figures", "--fmi", "3", "--only", "stress", "--fmu", fmi3_files["PipePlug"],
+                 "--out", tmp_path / "f")
+    data = (tmp_path / "f" / "stress_profile.png").read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 20_000
+    rows = list(csv.DictReader(open(tmp_path / "f" / "stress_profile.csv")))
+    c, L, T, dx = 5000.0, 1.0, 1e-4, 0.01          # sqrt(1.95e11 / 7800), defaults, the blow
+    sigma = -23e3 / (np.pi * (0.038 ** 2 - 0.035 ** 2))
+    checked = 0
+    for row in rows:
+        if row["scene"] != "frictionless":
+            continue
+        t, x, stress = float(row["t [s]"]), float(row["x [m]"]), float(row["stress [Pa]"])
+        fronts = [c * t, c * (t - T), 2 * L - c * t, 2 * L - c * (t - T)]
+        if min(abs(x - f) for f in fronts) <= 1.01 * dx:
+            continue
+        incident = sigma if c * (t - T) < x < c * t else 0.0
+        reflected = -sigma if c * (t - T) < 2 * L - x < c * t else 0.0
+        assert stress == pytest.approx(incident + reflected, abs=1e-6 * abs(sigma)), row
+        checked += 1
+    assert checked > 400
