@@ -48,13 +48,38 @@ def build_model(params: Params | Mapping[str, float] | None = None,
     if params.has_ram and not options.elastic:
         _check_rigid_ram(params, options)
     if options.elastic:
-        from .elastic.model import ElasticModel
-        return ElasticModel(params, options)
+        return _variant("elastic")(params, options)
     if options.solver == "fd":
-        from .rigid.fd import RigidFd
-        return RigidFd(params, options)
+        return _variant("fd")(params, options)
+    return _variant("exact")(params, options, compiled)
+
+
+def _elastic() -> type:
+    from .elastic.model import ElasticModel
+    return ElasticModel
+
+
+def _fd() -> type:
+    from .rigid.fd import RigidFd
+    return RigidFd
+
+
+def _exact() -> type:
     from .rigid.exact import RigidExact
-    return RigidExact(params, options, compiled)
+    return RigidExact
+
+
+_IMPORTS = {"elastic": _elastic, "fd": _fd, "exact": _exact}
+_CLASSES: dict[str, type] = {}        # the variants imported so far
+
+
+def _variant(name: str) -> type:
+    """The model class of variant ``name``, its module imported at its first build only (an
+    import statement per build costs more than a small model's build)."""
+    try:
+        return _CLASSES[name]
+    except KeyError:
+        return _CLASSES.setdefault(name, _IMPORTS[name]())
 
 
 def _check_rigid_ram(params: Params, options: Options) -> None:
