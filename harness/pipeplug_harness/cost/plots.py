@@ -10,7 +10,9 @@ from .front import TARGET, aggregate, pareto_front
 
 #: marker and colour of each family
 STYLE = {"exact": ("*", "black"), "fd": ("s", "tab:blue"), "LSODA": ("o", "tab:orange"),
-         "odeint-LSODA": ("D", "tab:red"), "Radau": ("^", "tab:green"), "BDF": ("v", "tab:purple")}
+         "odeint-LSODA": ("D", "tab:red"), "Radau": ("^", "tab:green"), "BDF": ("v", "tab:purple"),
+         "odeint-numba": ("D", "tab:brown"), "CVODE-numba": ("P", "tab:pink"),
+         "numbalsoda": ("X", "tab:olive"), "diffrax-Kvaerno5": ("h", "tab:cyan")}
 
 
 def pareto_plot(rows: list[dict], families, n_cases: int, path: Path) -> None:
