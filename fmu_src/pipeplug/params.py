@@ -260,15 +260,19 @@ class _Derived(_Formulas):
         """
         active = frozenset(active)
         values = self.__dict__                   # the fields, read once each
-        for p, checked, (low, strict, high, of, factor) in _checks(active):
-            value = values[p.name]
+        floats = True                            # every value a Python float
+        for name, p, checked, low, strict, high, of, factor in _checks(active):
+            value = values[name]
             if type(value) is float:             # the common case, decided without calls
                 if not checked:
                     if value - value == 0.0:
                         continue
                 elif ((value > low if strict else value >= low) and value <= high
-                      and abs(value) <= LARGEST and (of is None or value <= values[of] * factor)):
+                      and -LARGEST <= value <= LARGEST
+                      and (of is None or value <= values[of] * factor)):
                     continue
+            else:
+                floats = False
             if not checked:
                 ok, allowed = _finite(value), _INACTIVE
             elif not _within(p, value, self):
@@ -276,10 +280,15 @@ class _Derived(_Formulas):
             else:
                 ok, allowed = abs(value) <= LARGEST, _LARGEST
             if not ok:
-                raise ParameterError(p.name, value, allowed)
-        with _arithmetic(values):
+                raise ParameterError(name, value, allowed)
+        # Python floats raise where numpy scalars warn (caught by _derived either way).
+        with contextlib.nullcontext() if floats else np.errstate(all="ignore"):
+            plug = self.has_plug
             for limit in _limits(active):
-                if not _in_limits(limit, self):
+                if limit.active_with == "plug" and not plug:
+                    continue                     # the plug is not simulated
+                value = _derived(limit, self)
+                if not limit.smallest <= value <= limit.largest:      # False for NaN
                     raise ParameterError(limit.named, values[limit.named], limit.allowed(self))
         return self
 
@@ -372,11 +381,12 @@ def _checked(active: frozenset[str]) -> tuple[Parameter, ...]:
 
 
 @cache
-def _checks(active: frozenset[str]) -> tuple[tuple[Parameter, bool, tuple], ...]:
-    """Each parameter, whether its range is checked when the groups ``active`` are, and its
-    range (:func:`_range`): found once per set of groups, not searched per parameter and call."""
+def _checks(active: frozenset[str]) -> tuple[tuple, ...]:
+    """Per parameter: its name, itself, whether its range is checked when the groups ``active``
+    are, and its range (:func:`_range`): found once per set of groups, not searched per
+    parameter and call."""
     checked = _checked(active)
-    return tuple((p, any(p is c for c in checked), _range(p)) for p in PARAMETERS)
+    return tuple((p.name, p, any(p is c for c in checked), *_range(p)) for p in PARAMETERS)
 
 
 @cache
@@ -439,23 +449,13 @@ def _derived(limit: Limit, params):
         return math.inf
 
 
-def _arithmetic(values):
-    """The context to compute derived quantities of scalar ``values`` in: none for Python
-    floats (they raise, caught by :func:`_derived`), numpy's quiet error state for others
-    (numpy scalars warn where Python floats raise)."""
-    if all(type(v) is float for v in values.values()):
-        return contextlib.nullcontext()
-    return np.errstate(all="ignore")
-
-
 def _in_limits(limit: Limit, params):
     """Whether the quantity of ``limit`` is within it (a bool, or an array of them); always
     where it is inactive (the plug not simulated)."""
     value = _derived(limit, params)
     ok = (value >= limit.smallest) & (value <= limit.largest)    # False for NaN
     if limit.active_with == "plug":
-        plug = params.has_plug
-        ok = ok | ~plug if isinstance(plug, np.ndarray) else ok or not plug
+        ok = ok | ~np.asarray(params.has_plug)
     return ok
 
 

@@ -151,7 +151,8 @@ class RigidExact(ModelBase):
         self.M1, self.M2 = par[P_M1], par[P_M2]     # [kg]; M2 = 0 without a plug
         self.has_ram = bool(params.has_ram)          #: a ram strikes the head (strike())
         fns = _kernels(compiled, self.has_ram)
-        self.compiled = fns not in (KERNELS, RAM_KERNELS)   #: True when running compiled code
+        #: True when running compiled code (else the plain functions themselves)
+        self.compiled = fns is not (RAM_KERNELS if self.has_ram else KERNELS)
         self._par = as_array(par) if self.compiled else par
         self._st = _FRESH.copy() if self.compiled else list(_FRESH_LIST)
         self._log = np.zeros(_LOG_SIZE) if self.compiled else [0.0] * _LOG_SIZE

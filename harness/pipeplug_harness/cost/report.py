@@ -19,7 +19,7 @@ from .front import (
 #: headline ratios: (family compared with the exact solver, target speed-up or None)
 RATIO_TARGETS = (("LSODA", 20.0), ("Radau", 100.0), ("odeint-LSODA", None), ("BDF", None),
                  ("odeint-numba", None), ("CVODE-numba", None), ("numbalsoda", None),
-                 ("diffrax-Kvaerno5", None))
+                 ("diffrax-Kvaerno5", None), ("fd-compiled", None))
 #: exact against the best regularised setting: target of the median ratio over the cases and
 #: of each case's ratio
 MEDIAN_TARGET, EACH_TARGET = 20.0, 10.0
@@ -140,6 +140,20 @@ def versus_compiled(rows: list[dict], families, targets=(TARGET, 1e-9)) -> tuple
                      f"(the exact solver is {'faster' if min(ratios) > 1.0 else 'NOT faster'} "
                      "than every compiled competitor that reaches it, on every case)"]
     return text, ratios
+
+
+def same_as_fd(rows: list[dict]) -> str:
+    """Whether the compiled fd loop gave the core's fd errors on every case and step."""
+    fd = {(r["case"], r["setting"]): (r["max_rel_error"], r["max_rel_disp_error"])
+          for r in rows if r["method"] == "fd"}
+    mine = [(r["case"], r["setting"], (r["max_rel_error"], r["max_rel_disp_error"]))
+            for r in rows if r["method"] == "fd-compiled"]
+    if not mine:
+        return ""
+    differ = [f"{c} {s}" for c, s, e in mine if fd.get((c, s)) != e]
+    return ("- fd-compiled against the core's fd scheme: the same errors on every case and step "
+            f"({len(mine)} runs)" if not differ else
+            f"- fd-compiled differs from the core's fd scheme on: {', '.join(differ)}")
 
 
 def per_case(rows: list[dict], families) -> list[str]:

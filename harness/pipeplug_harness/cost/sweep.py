@@ -108,7 +108,10 @@ def _runs(bench: BenchCase, config: Config, families):
                 yield (family, f"eps={eps:g} rtol={rtol:g}",
                        lambda e=eps, r=rtol, a=atol, m=REGULARISED[family]:
                        run_regularised(bench, m, e, r, a))
-    for family in families:
+    for family in (f for f in families if f in compiled.STEPPED):
+        for dt in config.fd_dts:
+            yield family, f"dt={dt:g}", lambda dt=dt: compiled.run_fd_compiled(bench, dt)
+    for family in (f for f in families if f not in compiled.STEPPED):
         for eps in config.eps:
             for rtol in config.rtols:
                 yield (family, f"eps={eps:g} rtol={rtol:g}",
