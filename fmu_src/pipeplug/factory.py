@@ -52,14 +52,11 @@ def build_model(params: Params | Mapping[str, float] | None = None,
     if params.has_ram and not options.elastic:
         _check_rigid_ram(params, options)
     if options.elastic:
-        from .elastic.model import ElasticModel
-        return ElasticModel(params, options, profile_points=profile_points)
+        return _variant("elastic")(params, options, profile_points=profile_points)
     if options.solver == "fd":
-        from .rigid.fd import RigidFd
-        model = RigidFd(params, options)
+        model = _variant("fd")(params, options)
     else:
-        from .rigid.exact import RigidExact
-        model = RigidExact(params, options, compiled)
+        model = _variant("exact")(params, options, compiled)
     if profile_points:
         from .rigid.stress import RigidProfiles
         model._profiler = RigidProfiles(params, options.contact_growth, profile_points)
@@ -71,6 +68,34 @@ def _check_profile_points(n) -> None:
     _, lower, upper = PROFILE_POINTS
     if type(n) is not int or not (n == 0 or lower <= n <= upper):
         raise ParameterError("profile_points", n, f"an integer >= {lower} and <= {upper}")
+
+
+def _elastic() -> type:
+    from .elastic.model import ElasticModel
+    return ElasticModel
+
+
+def _fd() -> type:
+    from .rigid.fd import RigidFd
+    return RigidFd
+
+
+def _exact() -> type:
+    from .rigid.exact import RigidExact
+    return RigidExact
+
+
+_IMPORTS = {"elastic": _elastic, "fd": _fd, "exact": _exact}
+_CLASSES: dict[str, type] = {}        # the variants imported so far
+
+
+def _variant(name: str) -> type:
+    """The model class of variant ``name``, its module imported at its first build only (an
+    import statement per build costs more than a small model's build)."""
+    try:
+        return _CLASSES[name]
+    except KeyError:
+        return _CLASSES.setdefault(name, _IMPORTS[name]())
 
 
 def _check_rigid_ram(params: Params, options: Options) -> None:

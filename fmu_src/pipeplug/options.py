@@ -41,13 +41,21 @@ class Options:
             For an unknown option (naming the known ones) or a value outside the allowed set.
         """
         given = dict(given or {})
+        try:                          # a choice seen before: validated then
+            key = tuple((k, type(v), v) for k, v in given.items())
+            return _SEEN[key]
+        except (KeyError, TypeError):   # new, or unhashable (not an allowed value)
+            pass
         for key, value in given.items():
             if key not in OPTIONS:
                 raise ParameterError(key, value, "an option among " + ", ".join(OPTIONS))
             if not _is_allowed(key, value):
                 raise ParameterError(key, value,
                                      "one of " + ", ".join(map(repr, OPTIONS[key][0])))
-        return cls(**{k: given.get(k, spec[1]) for k, spec in OPTIONS.items()})
+        options = cls(**{k: given.get(k, spec[1]) for k, spec in OPTIONS.items()})
+        if cls is Options:
+            _SEEN[tuple((k, type(v), v) for k, v in given.items())] = options
+        return options
 
     def active_groups(self) -> frozenset[str]:
         """Which conditional parameter groups these options make active."""
@@ -57,6 +65,9 @@ class Options:
 
 
 _ELASTIC, _FD, _NONE = frozenset({"elastic"}), frozenset({"fd"}), frozenset()
+#: validated choices by their (name, type, value) items: few, since every value is one of the
+#: allowed ones (so a build does not check the table again)
+_SEEN: dict[tuple, Options] = {}
 #: the allowed values of each option with their types (so that 1 is not True, nor 1.0 1)
 _ALLOWED = {name: {(type(a), a) for a in spec[0]} for name, spec in OPTIONS.items()}
 

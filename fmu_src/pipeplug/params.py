@@ -14,6 +14,7 @@ Derived quantities (paper, section 1, with docs/corrections.md A6: P1 outer, P2 
 """
 from __future__ import annotations
 
+import contextlib
 import math
 from dataclasses import dataclass, fields, make_dataclass, replace
 from functools import cache
@@ -105,6 +106,7 @@ PARAMETERS: tuple[Parameter, ...] = (
 )
 
 _BY_NAME = {p.name: p for p in PARAMETERS}
+_DEFAULTS = {p.name: p.default for p in PARAMETERS}
 
 #: The largest magnitude of any active parameter the models compute with (squares and products
 #: of a few such values stay finite).
@@ -231,7 +233,11 @@ class _Derived(_Formulas):
     @classmethod
     def from_mapping(cls, values) -> Params:
         """Parameters from a mapping of contract names; missing ones take their defaults."""
-        return cls(**_checked_names(values))
+        params = object.__new__(cls)      # the fields set at once, not one by one as the
+        fields = params.__dict__          # frozen dataclass's __init__ sets them
+        fields.update(_DEFAULTS)
+        fields.update(_checked_names(values))
+        return params
 
     def validate(self, active: frozenset[str] = frozenset()) -> Params:
         """Check every active parameter against its range.
@@ -253,20 +259,37 @@ class _Derived(_Formulas):
             Naming the first offending parameter, its value and the allowed range.
         """
         active = frozenset(active)
-        for p in PARAMETERS:
-            value = getattr(self, p.name)
-            if p not in _checked(active):
+        values = self.__dict__                   # the fields, read once each
+        floats = True                            # every value a Python float
+        for name, p, checked, low, strict, high, of, factor in _checks(active):
+            value = values[name]
+            if type(value) is float:             # the common case, decided without calls
+                if not checked:
+                    if value - value == 0.0:
+                        continue
+                elif ((value > low if strict else value >= low) and value <= high
+                      and -LARGEST <= value <= LARGEST
+                      and (of is None or value <= values[of] * factor)):
+                    continue
+            else:
+                floats = False
+            if not checked:
                 ok, allowed = _finite(value), _INACTIVE
             elif not _within(p, value, self):
                 ok, allowed = False, _allowed(p, self)
             else:
                 ok, allowed = abs(value) <= LARGEST, _LARGEST
             if not ok:
-                raise ParameterError(p.name, value, allowed)
-        for limit in _limits(active):
-            if not _in_limits(limit, self):
-                raise ParameterError(limit.named, getattr(self, limit.named),
-                                     limit.allowed(self))
+                raise ParameterError(name, value, allowed)
+        # Python floats raise where numpy scalars warn (caught by _derived either way).
+        with contextlib.nullcontext() if floats else np.errstate(all="ignore"):
+            plug = self.has_plug
+            for limit in _limits(active):
+                if limit.active_with == "plug" and not plug:
+                    continue                     # the plug is not simulated
+                value = _derived(limit, self)
+                if not limit.smallest <= value <= limit.largest:      # False for NaN
+                    raise ParameterError(limit.named, values[limit.named], limit.allowed(self))
         return self
 
 
@@ -312,7 +335,8 @@ class ParamArrays(_Formulas):
                 if not np.all(ok):
                     raise ParameterError(p.name, float(values[np.argmin(ok)]), allowed)
         for limit in _limits(active):
-            ok = _in_limits(limit, self)
+            with np.errstate(all="ignore"):
+                ok = _in_limits(limit, self)
             if not np.all(ok):
                 first = int(np.argmin(ok))
                 raise ParameterError(limit.named, float(getattr(self, limit.named)[first]),
@@ -335,7 +359,7 @@ def _checked_names(values) -> dict:
     for key in values:
         if key not in _BY_NAME:
             raise ParameterError(key, values[key], "one of " + ", ".join(_BY_NAME))
-    return {k: _as_number(v) for k, v in values.items()}
+    return {k: v if type(v) is float else _as_number(v) for k, v in values.items()}
 
 
 def _as_number(value):
@@ -354,6 +378,26 @@ def _as_number(value):
 def _checked(active: frozenset[str]) -> tuple[Parameter, ...]:
     """The parameters checked when the groups ``active`` are: all but those of other groups."""
     return tuple(p for p in PARAMETERS if p.active_with is None or p.active_with in active)
+
+
+@cache
+def _checks(active: frozenset[str]) -> tuple[tuple, ...]:
+    """Per parameter: its name, itself, whether its range is checked when the groups ``active``
+    are, and its range (:func:`_range`): found once per set of groups, not searched per
+    parameter and call."""
+    checked = _checked(active)
+    return tuple((p.name, p, any(p is c for c in checked), *_range(p)) for p in PARAMETERS)
+
+
+@cache
+def _range(p: Parameter) -> tuple:
+    """The range of ``p`` as numbers: ``(low, strict, high, of, factor)``, the value within
+    ``low`` (excluded when ``strict``) and ``high`` (-inf and inf where the table gives none),
+    and at most ``factor`` times the parameter named ``of`` (None: no such bound)."""
+    low = -math.inf if p.lower is None else p.lower
+    high = math.inf if p.upper is None else p.upper
+    of, factor = {None: (None, 1.0), "L1": ("L1", 1.0), "L1/2": ("L1", 0.5)}[p.upper_of]
+    return low, p.strict_lower, high, of, factor
 
 
 @cache
@@ -377,8 +421,8 @@ def _allowed(p: Parameter, params) -> str:
     bounds it from above."""
     if p.upper_of is None:
         return p.allowed()
-    bound = params.L1 / 2.0 if p.upper_of == "L1/2" else getattr(params, p.upper_of)
-    return f"{p.allowed()} ({p.upper_of} = {_first(bound)!r})"
+    _, _, _, of, factor = _range(p)
+    return f"{p.allowed()} ({p.upper_of} = {_first(getattr(params, of) * factor)!r})"
 
 
 def _first(value):
@@ -399,11 +443,10 @@ class _Case:
 
 def _derived(limit: Limit, params):
     """The quantity of ``limit`` for ``params``; inf where its formula overflows."""
-    with np.errstate(all="ignore"):
-        try:
-            return getattr(params, limit.quantity)
-        except (OverflowError, ZeroDivisionError):
-            return math.inf
+    try:
+        return getattr(params, limit.quantity)
+    except (OverflowError, ZeroDivisionError):
+        return math.inf
 
 
 def _in_limits(limit: Limit, params):
@@ -426,12 +469,9 @@ def _within(p: Parameter, value: float, params: Params) -> bool:
 def _in_range(p: Parameter, value, params):
     """Whether ``value`` is finite and inside the range of ``p``: a bool for a float, an array
     of them for an array (the one statement of the range rules)."""
+    low, strict, high, of, factor = _range(p)
     ok = value - value == 0.0                              # finite
-    if p.lower is not None:
-        ok = ok & ((value > p.lower) if p.strict_lower else (value >= p.lower))
-    if p.upper is not None:
-        ok = ok & (value <= p.upper)
-    if p.upper_of is not None:
-        bound = params.L1 / 2.0 if p.upper_of == "L1/2" else getattr(params, p.upper_of)
-        ok = ok & (value <= bound)
+    ok = ok & ((value > low) if strict else (value >= low)) & (value <= high)
+    if of is not None:
+        ok = ok & (value <= getattr(params, of) * factor)
     return ok

@@ -108,8 +108,29 @@ def _kernels(compiled: bool, ram: bool = False) -> tuple:
 def _floats(values) -> np.ndarray:
     """``values`` as a writable contiguous float64 array (the type the compiled code takes),
     without a copy when they are one already."""
+    if type(values) is np.ndarray and values.dtype == np.float64:
+        flags = values.flags
+        if flags.c_contiguous and flags.writeable:
+            return values                # the common case, without numpy's conversion call
     array = np.ascontiguousarray(values, dtype=np.float64)
     return array if array.flags.writeable else array.copy()
+
+
+def _rows(names) -> tuple[list[int], int]:
+    """The rows of ``names`` in the outputs' table and the rows a dense output fills (the
+    kinematics alone, the first four outputs, need no forces or works): found once per
+    tuple of names."""
+    try:
+        return _ROWS[names]
+    except (KeyError, TypeError):        # new, or not hashable (a list)
+        rows = [OUTPUT_NAMES.index(name) for name in names]
+        found = rows, 4 if max(rows) < 4 else len(OUTPUT_NAMES)
+        if type(names) is tuple:
+            _ROWS[names] = found
+        return found
+
+
+_ROWS: dict[tuple, tuple[list[int], int]] = {}
 
 
 class RigidExact(ModelBase):
@@ -130,7 +151,8 @@ class RigidExact(ModelBase):
         self.M1, self.M2 = par[P_M1], par[P_M2]     # [kg]; M2 = 0 without a plug
         self.has_ram = bool(params.has_ram)          #: a ram strikes the head (strike())
         fns = _kernels(compiled, self.has_ram)
-        self.compiled = fns not in (KERNELS, RAM_KERNELS)   #: True when running compiled code
+        #: True when running compiled code (else the plain functions themselves)
+        self.compiled = fns is not (RAM_KERNELS if self.has_ram else KERNELS)
         self._par = as_array(par) if self.compiled else par
         self._st = _FRESH.copy() if self.compiled else list(_FRESH_LIST)
         self._log = np.zeros(_LOG_SIZE) if self.compiled else [0.0] * _LOG_SIZE
@@ -201,9 +223,8 @@ class RigidExact(ModelBase):
         times, loads = _floats(times), _floats(q)
         if loads.shape != times.shape:
             loads = np.broadcast_to(loads, times.shape).copy()
-        rows = [OUTPUT_NAMES.index(name) for name in names]
-        # Kinematics alone (the first four outputs) need no forces or works.
-        table = np.empty((4 if max(rows) < 4 else len(OUTPUT_NAMES), len(times)))
+        rows, filled = _rows(names)
+        table = np.empty((filled, len(times)))
         code, done = self._sample(self._st, self._par, self._log, loads, times, table, 0)
         while code == stepping.LOG_FULL:
             self._take_log()

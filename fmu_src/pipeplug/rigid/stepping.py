@@ -378,16 +378,18 @@ def _fill_loop(st, par, times, lo, hi, table):
     """:func:`_fill` as compiled code runs it: a loop over the samples (no temporaries)."""
     if table.shape[0] == 4:           # the piece's motions read once, out of the loop
         pipe, plug, t0 = pipe_of(st), plug_of(st), st[T0]
-        for j in range(lo, hi):
-            table[0, j], table[1, j], table[2, j], table[3, j] = kinematics(pipe, plug,
-                                                                            times[j] - t0)
+        # Views indexed from 0: an index known >= 0 needs no wraparound test per access.
+        t, v1, v2 = times[lo:hi], table[0, lo:hi], table[1, lo:hi]
+        u1, u2 = table[2, lo:hi], table[3, lo:hi]
+        for j in range(t.shape[0]):
+            v1[j], v2[j], u1[j], u2[j] = kinematics(pipe, plug, t[j] - t0)
         return
-    for j in range(lo, hi):
-        (table[0, j], table[1, j], table[2, j], table[3, j], table[4, j], table[5, j],
-         table[6, j], table[7, j], table[8, j], table[9, j], table[10, j], table[11, j],
-         table[12, j], table[13, j], table[14, j], table[15, j], table[16, j], table[17, j],
-         table[18, j], table[19, j], table[20, j], table[21, j], table[22, j],
-         table[23, j]) = outputs_at(st, par, times[j])
+    t, rows = times[lo:hi], table[:, lo:hi]
+    for j in range(t.shape[0]):
+        (rows[0, j], rows[1, j], rows[2, j], rows[3, j], rows[4, j], rows[5, j], rows[6, j],
+         rows[7, j], rows[8, j], rows[9, j], rows[10, j], rows[11, j], rows[12, j], rows[13, j],
+         rows[14, j], rows[15, j], rows[16, j], rows[17, j], rows[18, j], rows[19, j],
+         rows[20, j], rows[21, j], rows[22, j], rows[23, j]) = outputs_at(st, par, t[j])
 
 
 @compiled_form(_fill_loop)

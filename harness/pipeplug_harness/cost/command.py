@@ -44,11 +44,13 @@ from .front import TARGET
 from .plots import creep_plot, pareto_plot
 from .regularised import MAX_CALLS
 from .sweep import (
+    COMPILED,
     REGULARISED,
     RIGID_FAMILIES,
     Config,
     comm_step_sweep,
     elastic_sweep,
+    prepare_compiled,
     progress,
     sweep,
 )
@@ -71,7 +73,7 @@ def default_config() -> Config:
                   atol_scale=1e-3, elastic_dxs=(0.05, 0.02, 0.01),
                   comm_rates=(1000, 2000, 5000, 10000, 50000),
                   creep_eps=(1e-2, 1e-3, 1e-4, 1e-5, 1e-6), creep_rtol=1e-8, repeats=25,
-                  batch_cases=20_000)
+                  batch_cases=20_000, compiled=COMPILED)
 
 
 def quick_config() -> Config:
@@ -110,7 +112,9 @@ def _quiet_solvers():
 def run_study(config: Config) -> dict:
     """All measurements of the study: {"rows", "elastic", "elastic_note", "comm", "creep"}."""
     with _quiet_solvers():
-        rows = sweep(config)
+        progress("compiled competitors")
+        prepared, missing = prepare_compiled(config)
+        rows = sweep(config, tuple(prepared))
         progress("elastic model")
         elastic, note = elastic_sweep(config)
         progress("communication step")
@@ -120,7 +124,8 @@ def run_study(config: Config) -> dict:
     progress("batch throughput")
     batch = throughput(config.batch_cases, repeat=3)
     return {"rows": rows, "elastic": elastic, "elastic_note": note, "comm": comm, "creep": creep,
-            "batch": batch}
+            "batch": batch, "prepared": prepared,
+            "missing": missing}
 
 
 def _setup(config: Config, study: dict) -> list[str]:
@@ -136,6 +141,9 @@ def _setup(config: Config, study: dict) -> list[str]:
             f"{list(config.rtols)}, atol = {config.atol_scale:g} rtol; two segments split at t0; "
             "analytic Jacobian; right-hand side in Python; a run stops as failed after "
             f"{MAX_CALLS:,} right-hand-side evaluations.",
+            "- compiled competitors: the same regularised model and grid, right-hand side and "
+            "Jacobian compiled (numba; jax for diffrax), and the fd scheme compiled (numba) at "
+            "the fd steps; compile and jit times apart, below.",
             f"- exact solver: {'compiled (numba)' if study['batch']['compiled'] else 'plain Python'}"
             ", dense output at the sample times.",
             f"- machine: {platform.machine()}, {os.cpu_count()} cores, Python "
@@ -151,6 +159,7 @@ def markdown(config: Config, study: dict) -> str:
              f"## Exact against the fastest regularised setting that reaches {TARGET:g}", "",
              "Case by case, measured times (no interpolation): every regularised family and "
              "setting is a candidate.", "", *versus, "",
+             *_compiled_section(study, families), "",
              f"## Time to reach a relative error of {TARGET:g} (all {n} cases together)", "",
              "Each setting is one point: its largest error over the cases and its total time; "
              "the time to the target is interpolated (log-log) on each method's Pareto front.",
@@ -185,6 +194,24 @@ def markdown(config: Config, study: dict) -> str:
               f"regularised runs use LSODA with rtol = {config.creep_rtol:g}.", "",
               *report.creep_table(study["creep"]), ""]
     return "\n".join(parts)
+
+
+def _compiled_section(study: dict, families) -> list[str]:
+    """Exact against the compiled competitors, their one-time costs, and those not run."""
+    ran = [f for f in families if f in COMPILED]
+    parts = ["## Exact against the compiled competitors", ""]
+    if ran:
+        versus, _ = report.versus_compiled(study["rows"], ran)
+        parts += ["Case by case, measured times: every compiled family and setting is a "
+                  "candidate.", "", *versus, "", "One-time costs (first call: numba compiling, "
+                  "jax tracing and compiling; not in any time above):", ""]
+        parts += [f"- {f}: {s:.1f} s" for f, s in study["prepared"].items()]
+        parts += ["", report.same_as_fd(study["rows"])] if "fd-compiled" in ran else []
+    else:
+        parts.append("No compiled competitor ran.")
+    if study["missing"]:
+        parts += ["", "Not run:", ""] + [f"- {f}: {why}" for f, why in study["missing"].items()]
+    return parts
 
 
 def main(args) -> int:

@@ -10,7 +10,9 @@ from .front import TARGET, aggregate, pareto_front
 
 #: marker and colour of each family
 STYLE = {"exact": ("*", "black"), "fd": ("s", "tab:blue"), "LSODA": ("o", "tab:orange"),
-         "odeint-LSODA": ("D", "tab:red"), "Radau": ("^", "tab:green"), "BDF": ("v", "tab:purple")}
+         "odeint-LSODA": ("D", "tab:red"), "Radau": ("^", "tab:green"), "BDF": ("v", "tab:purple"),
+         "odeint-numba": ("D", "tab:brown"), "CVODE-numba": ("P", "tab:pink"),
+         "numbalsoda": ("X", "tab:olive"), "diffrax-Kvaerno5": ("h", "tab:cyan")}
 
 
 def pareto_plot(rows: list[dict], families, n_cases: int, path: Path) -> None:
@@ -18,7 +20,7 @@ def pareto_plot(rows: list[dict], families, n_cases: int, path: Path) -> None:
 
     Every setting is a faint marker; each family's Pareto front is joined by a line.
     """
-    fig, ax = io.subplots(figsize=(7.5, 5.0))
+    fig, ax = io.subplots(figsize=(9.5, 5.0))
     points = aggregate(rows)
     for family in families:
         own = [p for p in points if p["method"] == family and not math.isnan(p["max_rel_error"])]
@@ -38,7 +40,7 @@ def pareto_plot(rows: list[dict], families, n_cases: int, path: Path) -> None:
     ax.set_title("What accuracy costs: rigid models I and II, rectangular pulse\n"
                  "(lines: Pareto front of each method; faint markers: every setting)", fontsize=10)
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8, loc="best")
+    ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))   # off every point
     fig.tight_layout()
     io.save_png(fig, path, dpi=120)
 

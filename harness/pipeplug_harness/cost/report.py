@@ -17,7 +17,9 @@ from .front import (
 )
 
 #: headline ratios: (family compared with the exact solver, target speed-up or None)
-RATIO_TARGETS = (("LSODA", 20.0), ("Radau", 100.0), ("odeint-LSODA", None), ("BDF", None))
+RATIO_TARGETS = (("LSODA", 20.0), ("Radau", 100.0), ("odeint-LSODA", None), ("BDF", None),
+                 ("odeint-numba", None), ("CVODE-numba", None), ("numbalsoda", None),
+                 ("diffrax-Kvaerno5", None), ("fd-compiled", None))
 #: exact against the best regularised setting: target of the median ratio over the cases and
 #: of each case's ratio
 MEDIAN_TARGET, EACH_TARGET = 20.0, 10.0
@@ -103,6 +105,55 @@ def versus_regularised(rows: list[dict], families) -> tuple[list[str], list[floa
                      f"**{statistics.median(ratios):.1f}x** (target >= {MEDIAN_TARGET:g}); "
                      f"smallest: **{min(ratios):.1f}x** (target >= {EACH_TARGET:g} in each case)"]
     return text, ratios
+
+
+def versus_compiled(rows: list[dict], families, targets=(TARGET, 1e-9)) -> tuple[list[str],
+                                                                              list[float]]:
+    """Per case: the exact solver's time against the fastest setting of any compiled competitor
+    (`families`) reaching each of `targets`, both measured.
+
+    Returns
+    -------
+    (list of str, list of float)
+        The markdown lines and each case's ratio at the first target (``inf`` where no
+        compiled setting reaches it).
+    """
+    best = {target: fastest_reaching(rows, families, target) for target in targets}
+    lines, ratios = [], []
+    for mine in (r for r in rows if r["method"] == "exact"):
+        line = [mine["case"], _ms(mine["wall_s"])]
+        for target in targets:
+            r = best[target].get(mine["case"])
+            ratio = math.inf if r is None else r["wall_s"] / mine["wall_s"]
+            if target == targets[0]:
+                ratios.append(ratio)
+            line += (["none reaches it", "-", "-"] if r is None else
+                     [f"{r['method']}, {r['setting']}", _ms(r["wall_s"]), f"**{ratio:.1f}x**"])
+        lines.append(line)
+    header = ["case", "exact [ms]"]
+    for target in targets:
+        header += [f"fastest compiled below {target:g}", "its time [ms]", "ratio"]
+    text = _table(header, lines)
+    if ratios:
+        text += ["", f"- median ratio over the {len(ratios)} cases at {targets[0]:g}: "
+                     f"**{statistics.median(ratios):.1f}x**; smallest: **{min(ratios):.1f}x** "
+                     f"(the exact solver is {'faster' if min(ratios) > 1.0 else 'NOT faster'} "
+                     "than every compiled competitor that reaches it, on every case)"]
+    return text, ratios
+
+
+def same_as_fd(rows: list[dict]) -> str:
+    """Whether the compiled fd loop gave the core's fd errors on every case and step."""
+    fd = {(r["case"], r["setting"]): (r["max_rel_error"], r["max_rel_disp_error"])
+          for r in rows if r["method"] == "fd"}
+    mine = [(r["case"], r["setting"], (r["max_rel_error"], r["max_rel_disp_error"]))
+            for r in rows if r["method"] == "fd-compiled"]
+    if not mine:
+        return ""
+    differ = [f"{c} {s}" for c, s, e in mine if fd.get((c, s)) != e]
+    return ("- fd-compiled against the core's fd scheme: the same errors on every case and step "
+            f"({len(mine)} runs)" if not differ else
+            f"- fd-compiled differs from the core's fd scheme on: {', '.join(differ)}")
 
 
 def per_case(rows: list[dict], families) -> list[str]:

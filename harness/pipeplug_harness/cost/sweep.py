@@ -12,12 +12,14 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import core
+from . import compiled, core
 from .cases import BenchCase, closed_form_reference, relative_errors
 from .regularised import run_regularised
 
+#: regularised families with a compiled right-hand side (:mod:`pipeplug_harness.cost.compiled`)
+COMPILED = tuple(compiled.FAMILIES)
 #: families whose settings form a Pareto front (elastic is another model: kept apart)
-RIGID_FAMILIES = ("exact", "fd", "LSODA", "odeint-LSODA", "Radau", "BDF")
+RIGID_FAMILIES = ("exact", "fd", "LSODA", "odeint-LSODA", "Radau", "BDF", *COMPILED)
 #: study name of each regularised method (solve_ivp's or odeint)
 REGULARISED = {"LSODA": "LSODA", "Radau": "Radau", "BDF": "BDF", "odeint-LSODA": "odeint"}
 
@@ -51,6 +53,9 @@ class Config:
         Most repeats of a timing (best taken).
     batch_cases : int
         Cases of the batch throughput measurement.
+    compiled : tuple of str
+        Compiled competitors to run (keys of :data:`COMPILED`), on the grid of `eps` and
+        `rtols`; those that cannot run here are named in the report.
     """
 
     cases: list
@@ -65,6 +70,7 @@ class Config:
     creep_rtol: float
     repeats: int
     batch_cases: int
+    compiled: tuple = ()
 
 
 def progress(message: str) -> None:
@@ -89,8 +95,9 @@ def measure(family, setting, bench, run, ref, repeats) -> dict:
     return row
 
 
-def _runs(bench: BenchCase, config: Config):
-    """(family, setting, run) of every rigid method on `bench`."""
+def _runs(bench: BenchCase, config: Config, families):
+    """(family, setting, run) of every rigid method on `bench` (of the compiled competitors,
+    `families`)."""
     yield "exact", "dense output", lambda: core.run_exact(bench)
     for dt in config.fd_dts:
         yield "fd", f"dt={dt:g}", lambda dt=dt: core.run_fd(bench, dt)
@@ -101,6 +108,15 @@ def _runs(bench: BenchCase, config: Config):
                 yield (family, f"eps={eps:g} rtol={rtol:g}",
                        lambda e=eps, r=rtol, a=atol, m=REGULARISED[family]:
                        run_regularised(bench, m, e, r, a))
+    for family in (f for f in families if f in compiled.STEPPED):
+        for dt in config.fd_dts:
+            yield family, f"dt={dt:g}", lambda dt=dt: compiled.run_fd_compiled(bench, dt)
+    for family in (f for f in families if f not in compiled.STEPPED):
+        for eps in config.eps:
+            for rtol in config.rtols:
+                yield (family, f"eps={eps:g} rtol={rtol:g}",
+                       lambda e=eps, r=rtol, a=rtol * config.atol_scale, f=family:
+                       compiled.RUNS[f](bench, e, r, a))
 
 
 def warm_up(config: Config) -> None:
@@ -114,15 +130,37 @@ def warm_up(config: Config) -> None:
         run_regularised(bench, REGULARISED[family], 1e-3, 1e-4, 1e-7)
 
 
-def sweep(config: Config) -> list[dict]:
-    """Every rigid method at every setting on every case."""
+def prepare_compiled(config: Config) -> tuple[dict, dict]:
+    """Compile each compiled competitor that can run here, untimed in the study.
+
+    Returns
+    -------
+    (dict, dict)
+        {family: first call's wall time [s]: compiling and jit included} and {family: why it
+        cannot run}.
+    """
+    missing = compiled.available(config.compiled)
+    bench = min(config.cases, key=lambda b: b.t_end)
+    prepared = {}
+    for family in config.compiled:
+        if family in missing:
+            progress(f"  {family}: not run: {missing[family]}")
+            continue
+        progress(f"  compiling {family}")
+        prepared[family] = compiled.prepare(family, bench)
+    return prepared, missing
+
+
+def sweep(config: Config, families=()) -> list[dict]:
+    """Every rigid method at every setting on every case (of the compiled competitors,
+    `families`, prepared by :func:`prepare_compiled`)."""
     warm_up(config)
     rows = []
     for bench in config.cases:
         progress(f"case {bench.name} (t_end = {bench.t_end:g} s, {len(bench.times)} samples)")
         ref = reference(bench)
         rows += [measure(family, setting, bench, run, ref, config.repeats)
-                 for family, setting, run in _runs(bench, config)]
+                 for family, setting, run in _runs(bench, config, families)]
     return rows
 
 

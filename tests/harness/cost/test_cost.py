@@ -172,3 +172,18 @@ def test_regularised_jacobian_matches_finite_differences():
                                 np.array(model.rhs(0.0, y - h * e))) / (2 * h)
                                for e in np.eye(4)])
     assert np.allclose(model.jac(0.0, y), numeric, rtol=1e-6, atol=1e-6)
+
+
+def test_the_report_has_the_compiled_section(study):
+    text = (study / "cost.md").read_text()
+    assert "## Exact against the compiled competitors" in text
+    assert "No compiled competitor ran." in text          # the quick study asks for none
+
+
+def test_a_competitor_that_cannot_import_is_named_with_why(monkeypatch):
+    from pipeplug_harness.cost import compiled
+    monkeypatch.setitem(compiled.FAMILIES, "absent", ("numpy", "no_such_module_here"))
+    monkeypatch.setitem(compiled.INSTALL, "absent", "pip install it")
+    why = compiled.available(["absent"])
+    assert list(why) == ["absent"]
+    assert "no_such_module_here" in why["absent"] and "pip install it" in why["absent"]
