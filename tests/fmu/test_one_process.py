@@ -1,4 +1,5 @@
-"""Many runs and model kinds in one Python process, live instances side by side, two builds.
+"""Many runs and model kinds in one Python process, live instances side by side, two builds;
+FMI 2.0 and FMI 3.0 FMUs of both builds together.
 
 pythonfmu runs every FMU of a process in one interpreter and imports their modules by name;
 fmpy's ``simulate_fmu`` unpacks the FMU into a new temporary folder per run and deletes it
@@ -58,6 +59,15 @@ def test_simulate_fmu_runs_of_every_kind_in_one_process(fmu_file, alone, order):
         assert result == alone[kind, "sequence"], kind
 
 
+def test_fmi3_runs_of_every_kind_in_one_process_equal_fmi2_runs_alone(fmi3_files, alone):
+    """The FMI 3.0 PipePlug (same core, same FMI base) in one process, run after run: each the
+    FMI 2.0 FMU's run alone in a fresh process, bit for bit."""
+    order = ["exact I", "elastic", "exact II", "fd", "exact I"]
+    results = _scenario("sequence", fmi3_files["PipePlug"], [RUNS[k] for k in order])
+    for kind, result in zip(order, results):
+        assert result == alone[kind, "sequence"], kind
+
+
 def test_live_instances_of_every_kind_stepped_interleaved(fmu_file, alone):
     """Each instance from its own unpacked copy; the copies of earlier ones are deleted."""
     order = ["elastic", "exact II", "fd", "exact I"]
@@ -70,12 +80,15 @@ def test_two_different_builds_run_their_own_code(fmu_file, tmp_path):
     """A rebuilt FMU with a changed core runs its own core beside the first build."""
     changed = _build_with_changed_core(tmp_path)
     run = RUNS["exact I"]
-    results = _scenario_two_builds(fmu_file, changed, run)
+    fmi3 = [f.parent / "fmi3" / "PipePlug.fmu" for f in (fmu_file, changed)]
+    # FMI 2.0 and 3.0 builds of both cores in one process: original, changed, original, ...
+    results = _scenario_two_builds([fmu_file, changed, fmi3[0], fmi3[1], fmu_file, fmi3[1]],
+                                   run)
     t = np.array([float.fromhex(r[0]) for r in results[0]])
     case = cf.Case(tau1=run["start"]["tau1"], Q0=run["Q"], t0=run["t_off"])
     v_exact = cf.solution(case, t)["V1"]
     peak = np.abs(v_exact).max()
-    for k, result in enumerate(results):       # original, changed, original, changed
+    for k, result in enumerate(results):
         v = np.array([float.fromhex(r[1]) for r in result])
         factor = 2.0 if k % 2 else 1.0         # the changed core doubles v_pipe
         assert np.abs(v - factor * v_exact).max() <= 1e-12 * peak, k
@@ -98,12 +111,12 @@ def _build_with_changed_core(tmp_path: Path) -> Path:
     return dest
 
 
-def _scenario_two_builds(first: Path, second: Path, run: dict) -> list:
-    """simulate_fmu of the first build, the second, the first again, the second again."""
+def _scenario_two_builds(fmus: list[Path], run: dict) -> list:
+    """simulate_fmu of each FMU in turn, in one process."""
     script = (f"import json, sys; sys.path.insert(0, {str(HERE)!r});"
               f"import one_process_scenarios as s; run = json.loads({json.dumps(run)!r});"
               f"print(json.dumps([s.sequence(f, [run])[0] for f in "
-              f"[{str(first)!r}, {str(second)!r}, {str(first)!r}, {str(second)!r}]]))")
+              f"{[str(f) for f in fmus]!r}]))")
     proc = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
                           timeout=600, check=False)
     assert proc.returncode == 0, proc.stderr[-3000:]
