@@ -47,6 +47,8 @@ def build_model(params: Params | Mapping[str, float] | None = None,
     params.validate(options.active_groups())
     if params.has_ram and not options.elastic:
         _check_rigid_ram(params, options)
+    if params.has_face:
+        _check_face(params, options)
     if options.elastic:
         from .elastic.model import ElasticModel
         return ElasticModel(params, options)
@@ -70,3 +72,12 @@ def _check_rigid_ram(params: Params, options: Options) -> None:
                              "the ram make two coupled frequencies, which the exact solver "
                              "does not carry in closed form; model I or the elastic model "
                              "carry a ram)")
+
+
+def _check_face(params: Params, options: Options) -> None:
+    """Refuse an end resistance where a model does not carry it yet."""
+    name = "q_face" if params.q_face > 0.0 else "q_plug_face"
+    if params.has_ram:
+        raise ParameterError(name, getattr(params, name), "0 with a ram (ram_mass > 0)")
+    if options.elastic:
+        raise ParameterError(name, getattr(params, name), "0 with elastic")
