@@ -77,7 +77,6 @@ def _check_rigid_ram(params: Params, options: Options) -> None:
 def _check_face(params: Params, options: Options) -> None:
     """Refuse an end resistance where a model does not carry it yet."""
     name = "q_face" if params.q_face > 0.0 else "q_plug_face"
-    if params.has_ram:
-        raise ParameterError(name, getattr(params, name), "0 with a ram (ram_mass > 0)")
-    if options.elastic:
-        raise ParameterError(name, getattr(params, name), "0 with elastic")
+    if params.has_ram and not options.elastic:
+        raise ParameterError(name, getattr(params, name), "0 with a ram (ram_mass > 0) in the "
+                             "rigid models")

@@ -30,8 +30,11 @@ def _spread(force, start, length, x):
 
 @jitable
 def axial_force_at(x, head, outer, inner, L1, Lc, L2, face=0.0):
-    """N(x) [N] (module docstring); forces may be arrays (dense output)."""
-    return (-head + (head + outer + inner + face) * (x / L1) - _spread(outer, L1 - Lc, Lc, x)
+    """N(x) [N] (module docstring); forces may be arrays (dense output), ``face`` [N] a float."""
+    total = head + outer + inner
+    if face != 0.0:                   # (no addition of 0: the signs of zeros stay those of before)
+        total = total + face
+    return (-head + total * (x / L1) - _spread(outer, L1 - Lc, Lc, x)
             - _spread(inner, L1 - L2, L2, x))
 
 
@@ -42,7 +45,7 @@ def axial_extremes(head, outer, inner, L1, Lc, L2, face=0.0):
     over times (dense output)."""
     at_contact = axial_force_at(L1 - Lc, head, outer, inner, L1, Lc, L2, face)
     at_plug = axial_force_at(L1 - L2, head, outer, inner, L1, Lc, L2, face)
-    end = face + 0.0 * head
+    end = 0.0 * head if face == 0.0 else face + 0.0 * head
     low = np.minimum(np.minimum(-head, end), np.minimum(at_contact, at_plug))
     high = np.maximum(np.maximum(-head, end), np.maximum(at_contact, at_plug))
     return low, high
