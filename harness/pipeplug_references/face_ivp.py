@@ -349,7 +349,8 @@ def simulate_face(params: dict, segments: list, times, contact_growth: bool, *,
         signs = (int(np.sign(y[1])), int(np.sign(y[1] - y[3])) if s.plug else 0,
                  int(np.sign(y[3])) if s.plug else 0)
         mode, statics = face_modes(s, q, float(y[0]), *signs)
-        events.append((t, f"{cause}: modes {mode}"))
+        p, r, g = mode
+        events.append((t, f"{cause}: pipe {p:+d}, plug {r:+d}, face {g:+d}"))
 
     prev_q = 0.0
     for ta, tb, q in intervals:
