@@ -5,12 +5,11 @@ import math
 
 import numpy as np
 import pytest
+from rigid_helpers import drive
 
 from pipeplug import Params, build_model
 from pipeplug.interface import ledger_residual
 from pipeplug_references.face_ivp import simulate_face
-
-from rigid_helpers import drive
 
 P = Params()
 M1, M2, S1, S2, F2 = P.M1, P.M2, P.S1, P.S2, P.F2     # defaults: tau2 = 1e4, L2 = L1 = 1 m
@@ -115,7 +114,7 @@ def test_exact_solver_against_the_ode_reference(params, options, pulses):
     assert np.any(ref["v_plug"] != ref["v_pipe"]) or "q_face" in params
     for names in (("u_pipe", "u_plug"), ("v_pipe", "v_plug"),
                   ("W_input", "W_friction_outer", "W_friction_inner", "W_face")):
-        scale = max(max(abs(ref[n]).max() for n in names), 1e-9)
+        scale = max(*(abs(ref[n]).max() for n in names), 1e-9)
         for n in names:
             assert np.abs(out[n] - ref[n]).max() <= 1e-10 * scale, n
     assert np.all(np.diff(out["W_face"]) >= 0.0)
