@@ -110,17 +110,17 @@ def energy_violations(rows, cushion_allowance: float = 0.0, m_ram: float = 0.0,
 
 
 def bound_ratio(rows, loads, steps, body: RodBody, h: float, strikes=(), starts=()) -> float:
-    """Largest |v_pipe| over a physical bound at each point: the rigid pipe's velocity under
-    the impulse of |Q| so far (the bound of any mean velocity), plus a wave of 2 |Q| / Z1 for
-    every change of the load so far (each piece of load sends a wave that doubles at an end,
-    and a train in step with the wave's round trip piles them up) and the waves of both
-    frictions and end resistances, 2 (F1 + F2 + Qf + Qp) / Z1. The impulse is counted to the
-    next internal step (the model applies a step's mean force). A strike at ``v`` [m/s]
-    (``strikes``: (time, v); ``starts`` [s] the start of each row's step) adds the impulse 2 m_ram |v| (the ram cannot leave
-    faster than it came) and waves of 4 |v| (the head never outruns the ram: a wave of |v| at
-    most, doubled at an end, and again by the ram's return). A scheme that diverges exceeds
-    it by orders of magnitude; the physics of a free rod (d'Alembert) stays within it and can
-    reach it (1e-9 allows for the sums' round-off)."""
+    """Largest |v_pipe| over a physical bound at each point: the rigid pipe's velocity under the
+    impulse of |Q| so far (the bound of any mean velocity), plus a wave of 2 |Q| / Z1 for every
+    change of the load so far (each piece of load sends a wave that doubles at an end, and a
+    train in step with the wave's round trip piles them up) and the waves of both frictions and
+    end resistances, 2 (F1 + F2 + Qf + Qp) / Z1. The impulse is counted to the next internal
+    step (the model applies a step's mean force). A strike at ``v`` [m/s] (``strikes``: (time,
+    v); ``starts`` [s] the start of each row's step) adds the impulse 2 m_ram |v| (the ram
+    cannot leave faster than it came) and waves of 4 |v| (the head never outruns the ram: a
+    wave of |v| at most, doubled at an end, and again by the ram's return). A scheme that
+    diverges exceeds it by orders of magnitude; the physics of a free rod (d'Alembert) stays
+    within it and can reach it (1e-9 allows for the sums' round-off)."""
     q = np.abs(loads)
     impulse = np.cumsum(q * steps) + q * h
     new_piece = np.r_[True, loads[1:] != loads[:-1]]
