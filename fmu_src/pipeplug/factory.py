@@ -51,6 +51,8 @@ def build_model(params: Params | Mapping[str, float] | None = None,
     _check_profile_points(profile_points)
     if params.has_ram and not options.elastic:
         _check_rigid_ram(params, options)
+    if params.has_face:
+        _check_face(params, options)
     if options.elastic:
         return _variant("elastic")(params, options, profile_points=profile_points)
     if options.solver == "fd":
@@ -111,3 +113,11 @@ def _check_rigid_ram(params: Params, options: Options) -> None:
                              "the ram make two coupled frequencies, which the exact solver "
                              "does not carry in closed form; model I or the elastic model "
                              "carry a ram)")
+
+
+def _check_face(params: Params, options: Options) -> None:
+    """Refuse an end resistance where a model does not carry it yet."""
+    name = "q_face" if params.q_face > 0.0 else "q_plug_face"
+    if params.has_ram and not options.elastic:
+        raise ParameterError(name, getattr(params, name), "0 with a ram (ram_mass > 0) in the "
+                             "rigid models")

@@ -84,6 +84,9 @@ OUTPUTS: tuple[Output, ...] = (
                                         "soil, 1 sliding forward (elastic: at x_monitor)"),
     Output("plug_mode", "1", "Integer", "pipe/plug contact: sign(v_pipe - v_plug); 0 = stuck "
                                         "together or no plug (elastic: at x_monitor)"),
+    Output("W_face", "J", "Real", "work done against the end resistance of the soil on the "
+                                  "pipe's front end and the plug's front face since t = 0 "
+                                  "(>= 0, never decreases; 0 with q_face = q_plug_face = 0)"),
 )
 
 OUTPUT_NAMES: tuple[str, ...] = tuple(o.name for o in OUTPUTS)
@@ -97,7 +100,7 @@ PER_STEP: tuple[str, ...] = ("stress_min", "stress_max")
 #: decrease). Effects added later add their terms here.
 LEDGER_SOURCES: tuple[str, ...] = ("W_input", "W_ram")
 LEDGER_TERMS: tuple[str, ...] = ("E_kinetic", "E_strain", "W_friction", "W_numerical",
-                                 "W_cushion")
+                                 "W_cushion", "W_face")
 
 
 def ledger_residual(values) -> float:

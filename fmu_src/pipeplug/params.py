@@ -11,6 +11,8 @@ Derived quantities (paper, section 1, with docs/corrections.md A6: P1 outer, P2 
     S2 = pi R1^2                   plug cross-section                 [m^2]
     M1 = rho1 S1 L1                pipe mass                          [kg]
     M2 = rho2 S2 L2                plug mass                          [kg]
+    F_face = q_face S1             end resistance on the steel annulus [N]
+    F_plug_face = q_plug_face S2   end resistance on the plug's face  [N]
 """
 from __future__ import annotations
 
@@ -103,6 +105,11 @@ PARAMETERS: tuple[Parameter, ...] = (
               "and head; 0: the ram strikes the head directly", 0.0),
     Parameter("cushion_restitution", "1", 1.0, "coefficient of restitution of the cushion "
               "(unloading stiffness cushion_stiffness / e^2)", 0.0, True, upper=1.0),
+    Parameter("q_face", "Pa", 0.0, "end resistance of the soil on the steel annulus S1 while the "
+              "pipe's front end advances into it (set-valued: up to q_face S1 at rest, none "
+              "while it retreats); 0: absent", 0.0),
+    Parameter("q_plug_face", "Pa", 0.0, "end resistance of the soil on the plug's front face S2 "
+              "while the plug advances into it (the same law); 0: absent", 0.0),
 )
 
 _BY_NAME = {p.name: p for p in PARAMETERS}
@@ -142,6 +149,8 @@ LIMITS: tuple[Limit, ...] = (
     Limit("M2", "rho2*S2*L2", "kg", 1e-100, LARGEST, "rho2", "plug"),
     Limit("F1", "P1*L1*tau1", "N", 0.0, LARGEST, "tau1"),
     Limit("F2", "P2*L2*tau2", "N", 0.0, LARGEST, "tau2"),
+    Limit("F_face", "q_face*S1", "N", 0.0, LARGEST, "q_face"),
+    Limit("F_plug_face", "q_plug_face*S2", "N", 0.0, LARGEST, "q_plug_face"),
     Limit("c1", "sqrt(E1/rho1)", "m/s", 1e-100, LARGEST, "E1", "elastic"),
     Limit("c2", "sqrt(E2/rho2)", "m/s", 1e-100, LARGEST, "E2", "elastic"),
     Limit("cells", "L1/dx", "cells", 1.0, 1e6, "dx", "elastic"),
@@ -191,6 +200,22 @@ class _Formulas:
     def F2(self) -> float:
         """Inner (plug) friction limit, P2 L2 tau2 [N]."""
         return self.P2 * self.L2 * self.tau2
+
+    @property
+    def F_face(self) -> float:
+        """End resistance on the steel annulus, q_face S1 [N]."""
+        return self.q_face * self.S1
+
+    @property
+    def F_plug_face(self) -> float:
+        """End resistance on the plug's front face, q_plug_face S2 [N]."""
+        return self.q_plug_face * self.S2
+
+    @property
+    def has_face(self) -> bool:
+        """True when an end resistance acts (q_face > 0, or q_plug_face > 0 on a coupled
+        plug)."""
+        return self.q_face > 0.0 or (self.q_plug_face > 0.0 and self.has_plug)
 
     @property
     def has_plug(self) -> bool:

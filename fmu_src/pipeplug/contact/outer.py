@@ -24,16 +24,21 @@ import numpy as np
 from ..jit import jitable
 
 __all__ = ["NONE", "CONSTANT", "GROWING", "outer_contact_for", "limit", "segment", "work",
-           "contact_length"]
+           "contact_length", "face_on"]
 
 #: kinds of law (floats: a law is a tuple of floats)
 NONE, CONSTANT, GROWING = 0.0, 1.0, 2.0
 
 
-def outer_contact_for(P1, L1, tau1, growth: bool) -> tuple:
+def outer_contact_for(P1, L1, tau1, growth: bool, q_face=0.0) -> tuple:
     """The outer friction law the parameters call for (``P1`` [m], ``L1`` [m], ``tau1`` [Pa]:
-    floats, or arrays for many cases at once, giving arrays)."""
-    kind = (tau1 != 0.0) * (GROWING if growth else CONSTANT)       # NONE where tau1 = 0
+    floats, or arrays for many cases at once, giving arrays).
+
+    An end resistance (``q_face`` [Pa] > 0) needs the law's segments even without friction:
+    in model II the front end meets the soil only at U >= 0 (:func:`face_on`).
+    """
+    on = (tau1 != 0.0) | (q_face != 0.0)
+    kind = on * (GROWING if growth else CONSTANT)       # NONE where tau1 = q_face = 0
     return kind, P1 * L1 * tau1, P1 * tau1, L1
 
 
@@ -46,6 +51,16 @@ def limit(law, U):
     if kind == GROWING:
         return k * min(max(U, 0.0), L1)
     return 0.0
+
+
+@jitable
+def face_on(law, U):
+    """1.0 where the pipe's front end at ``U`` [m] is in the soil when it advances, else 0.0:
+    always in model I; in model II from the surface on (U >= 0, the segment a body moving
+    forward from U = 0 enters), so the switch is a segment end, an event of the exact solver."""
+    if law[0] == GROWING and U < 0.0:
+        return 0.0
+    return 1.0
 
 
 @jitable

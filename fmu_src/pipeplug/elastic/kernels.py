@@ -57,7 +57,10 @@ __all__ = ["KERNELS"]
 # per full cell P tau dx [N] of the soil and plug contacts, grid step [m]; the ram's mass [kg]
 # (0: no ram) and its cushion's loading and unloading stiffness [N/m].
 M1, K1, M2, K2, C1, C2, DX, RAM_MASS, K_LOAD, K_UNLOAD = range(10)
-N_COEF = 10
+# End resistance (:mod:`pipeplug.elastic.face`): Qf = q_face S1 and Qp = q_plug_face S2 [N] (0
+# without a plug), and 1.0 with contact growth (the annulus meets the soil from U >= 0 on).
+QF, QP, GROWTH = range(10, 13)
+N_COEF = 13
 # acc: W_input [J], friction work at the soil and at the plug contact [J] (each the sum of
 # acc[i] and its rounding error acc[i + COMPENSATION]); the last step's soil and plug friction
 # forces on the pipe along +x [N]; the number of steps that took back a share of a projection
@@ -73,7 +76,8 @@ W_CUSHION, W_CUSHION_ERROR = 9, 10
 RAM = 11
 N_MIN, N_MAX = 17, 18
 W_RAM = 19                # the energy strikes brought [J] (pipeplug.elastic.model.strike)
-N_ACC = 20
+W_FACE, W_FACE_ERROR = 20, 21   # work against the end resistance [J] and its rounding error
+N_ACC = 22
 
 
 @jitable

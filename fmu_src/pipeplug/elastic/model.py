@@ -63,6 +63,7 @@ from .kernels import (
     DX,
     F_IN,
     F_OUT,
+    GROWTH,
     K1,
     K2,
     K_UNLOAD,
@@ -76,6 +77,8 @@ from .kernels import (
     RAM_MASS,
     W_CUSHION,
     W_CUSHION_ERROR,
+    W_FACE,
+    W_FACE_ERROR,
     W_IN,
     W_INNER,
     W_OUTER,
@@ -168,11 +171,18 @@ class ElasticModel(ModelBase):
         if profile_points:
             self._profiler = _profiles
         effects = (g.n2 > 0, g.soil, bool(options.contact_growth))
-        self.kernel_name = KERNELS[effects].__name__
         if vectorised is None:
             vectorised = not jit.enabled()
         self.vectorised = bool(vectorised)
-        self._kernel = VECTORISED[effects] if vectorised else jit.compiled(KERNELS[effects])
+        if params.has_face:           # one kernel, loops only (pipeplug.elastic.face)
+            from .face import run_face
+            g.coef[GROWTH] = float(options.contact_growth)
+            self.kernel_name = run_face.__name__
+            self._kernel = run_face if vectorised else jit.compiled(run_face)
+        else:
+            self.kernel_name = KERNELS[effects].__name__
+            self._kernel = (VECTORISED[effects] if vectorised
+                            else jit.compiled(KERNELS[effects]))
         self.clock = Clock(g.h_max)
         self._max_steps = params.max_internal_steps
         self.v1, self.N1 = np.zeros(g.n1), np.zeros(g.n1 + 1)
@@ -296,7 +306,8 @@ class ElasticModel(ModelBase):
                        float(acc[F_OUT]), float(acc[F_IN]), w_input, outer + inner,
                        outer, inner, kinetic, strain, 0.0, float(-self.N1[0]), *ram,
                        float(self.N1[0]) / area, float(acc[N_MIN]) / area,
-                       float(acc[N_MAX]) / area, self.at_rest(), *self._monitor_modes())
+                       float(acc[N_MAX]) / area, self.at_rest(), *self._monitor_modes(),
+                       float(acc[W_FACE] + acc[W_FACE_ERROR]))
 
     def _monitor_modes(self) -> tuple[int, int]:
         """(pipe_mode, plug_mode) at the cell of x_monitor (and its plug cell)."""

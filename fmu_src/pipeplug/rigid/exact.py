@@ -60,6 +60,7 @@ from .record import (
     VR,
     VSCALE,
     W_CUSH,
+    W_FACE,
     W_IN,
     W_INNER,
     W_OUTER,
@@ -236,7 +237,8 @@ class RigidExact(ModelBase):
     def outputs(self) -> Outputs:
         """The contract's outputs at the current time."""
         out = self._outputs(self._st, self._par, self._st[TIME])
-        return Outputs._make((*out[:21], out[21] != 0.0, int(out[22]), int(out[23])))
+        return Outputs._make((*out[:21], out[21] != 0.0, int(out[22]), int(out[23]),
+                              out[24]))
 
     def at_rest(self) -> bool:
         """Both bodies stuck with no load (and a ram off the head, not coming back): a step
@@ -269,6 +271,7 @@ class RigidExact(ModelBase):
         modes gone through."""
         state = {k: float(self._st[i]) for k, i in zip(_STATE_KEYS, _STATE_SLOTS)}
         state["kick"] = int(state["kick"])
+        state["W_face"] = float(self._st[W_FACE])
         if self.has_ram:
             state.update({k: float(self._st[i]) for k, i in zip(_RAM_KEYS, _RAM_SLOTS)})
         state["modes"] = np.array(self.modes(), dtype=np.int64).reshape(-1, 2)
@@ -285,6 +288,7 @@ class RigidExact(ModelBase):
             for k, i in zip(_RAM_KEYS, _RAM_SLOTS):
                 st[i] = float(state[k])
             st[STEPPING], st[EXT_T] = 0.0, time
+        st[W_FACE] = float(state["W_face"])    # read by nothing the piece's start writes
         st[LOGGED] = 0.0               # the log continues from the restored modes
         st[MODE] = stepping.mode_code(*self._modes[-1]) if self._modes else -1.0
         self._start(st, self._par, self._log, t0, u1, v1, u2, v2, w_in, w_outer, w_inner, q,

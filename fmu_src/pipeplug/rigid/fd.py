@@ -24,7 +24,8 @@ import math
 import numpy as np
 
 from ..contact.coulomb import SLACK, one_contact, two_contacts
-from ..contact.outer import contact_length, limit, outer_contact_for
+from ..contact.face import face_contacts, one_sided
+from ..contact.outer import contact_length, face_on, limit, outer_contact_for
 from ..interface import ModelBase, Outputs
 from ..params import ParameterError
 from .stress import axial_extremes
@@ -32,7 +33,7 @@ from .stress import axial_extremes
 __all__ = ["RigidFd", "internal_steps"]
 
 _STATE_KEYS = ("time", "U1", "V1", "U2", "V2", "W_in", "W_outer", "W_inner", "W_num", "f1", "f2",
-               "s1", "s2", "p_max", "q")
+               "s1", "s2", "p_max", "q", "W_face", "face1")
 # Velocities carry round-off of the largest momentum the run has seen: a trial momentum within
 # this share of it from a friction limit sticks (else a body whose load equals its limit
 # slides on forever at 1e-13 m/s after a grazing stop).
@@ -61,8 +62,13 @@ class RigidFd(ModelBase):
         self.L2 = params.L2 if params.has_plug else 0.0
         self.dt_max = params.dt
         self._max_steps = params.max_internal_steps
-        self.outer = outer_contact_for(params.P1, params.L1, params.tau1, options.contact_growth)
-        self._step = self._step_pair if params.has_plug else self._step_alone
+        self.outer = outer_contact_for(params.P1, params.L1, params.tau1, options.contact_growth,
+                                       params.q_face)
+        self.Qf, self.Qp = params.F_face, params.F_plug_face
+        if params.has_face:           # end resistance: the joint problem with its windows
+            self._step = self._step_face_pair if params.has_plug else self._step_face_alone
+        else:
+            self._step = self._step_pair if params.has_plug else self._step_alone
         self.time = 0.0
         self._s = dict.fromkeys(_STATE_KEYS, 0.0)
         self._s["s1"] = self._s["s2"] = 0
@@ -89,7 +95,8 @@ class RigidFd(ModelBase):
     def at_rest(self) -> bool:
         """Both bodies at rest and no friction force: a step under Q = 0 changes nothing."""
         s = self._s
-        return s["V1"] == 0.0 and s["V2"] == 0.0 and s["f1"] == 0.0 and s["f2"] == 0.0
+        return (s["V1"] == 0.0 and s["V2"] == 0.0 and s["f1"] == 0.0 and s["f2"] == 0.0
+                and s["face1"] == 0.0)
 
     def _step_pair(self, s: dict, q: float, tau: float) -> None:
         """One step of pipe and plug."""
@@ -108,6 +115,38 @@ class RigidFd(ModelBase):
         v1, p1 = one_contact(self.M1, trial, c1,
                              max(SLACK * (abs(self.M1 * trial) + c1), _ROUND_OFF * s["p_max"]))
         self._commit(s, q, tau, v1, 0.0, p1, 0.0, (v1 > 0.0) - (v1 < 0.0), 0)
+
+    def _face_windows(self, s: dict, tau: float) -> tuple[float, float]:
+        """The impulse window of the soil on the pipe, against advance and retreat [N s]."""
+        c1 = tau * limit(self.outer, s["U1"])
+        return c1 + tau * self.Qf * face_on(self.outer, s["U1"]), c1
+
+    def _step_face_pair(self, s: dict, q: float, tau: float) -> None:
+        """One step of pipe and plug with end resistance (:mod:`pipeplug.contact.face`)."""
+        c1p, c1m = self._face_windows(s, tau)
+        v1, v2, p1, p2, p3, s1, s2, _ = face_contacts(
+            self.M1, self.M2, s["V1"] + tau * q / self.M1, s["V2"], c1p, c1m, tau * self.F2,
+            tau * self.Qp, _ROUND_OFF * s["p_max"])
+        self._commit_face(s, q, tau, v1, v2, p1, p2, p3, s1, s2, c1m)
+
+    def _step_face_alone(self, s: dict, q: float, tau: float) -> None:
+        """One step of the pipe alone with end resistance."""
+        c1p, c1m = self._face_windows(s, tau)
+        trial = s["V1"] + tau * q / self.M1
+        v1, p1 = one_sided(self.M1, trial, c1p, c1m,
+                           max(SLACK * (abs(self.M1 * trial) + c1p + c1m),
+                               _ROUND_OFF * s["p_max"]))
+        self._commit_face(s, q, tau, v1, 0.0, p1, 0.0, 0.0, (v1 > 0.0) - (v1 < 0.0), 0, c1m)
+
+    def _commit_face(self, s, q, tau, v1, v2, p1, p2, p3, s1, s2, c1) -> None:
+        """:meth:`_commit` with the end impulses: the soil's ``p1`` on the pipe splits into the
+        shaft's (up to its limit ``c1``, first) and the annulus'; ``p3`` on the plug's face.
+        Their work at the step's end velocity is >= 0 (each acts only against advance)."""
+        shaft = max(p1, -c1)
+        face = p1 - shaft
+        s["W_face"] -= face * v1 + p3 * v2
+        s["face1"] = face / tau
+        self._commit(s, q, tau, v1, v2, shaft, p2, s1, s2)
 
     def _commit(self, s, q, tau, v1, v2, p1, p2, s1, s2) -> None:
         """Store the new step velocities, displacements, works and friction forces."""
@@ -129,12 +168,12 @@ class RigidFd(ModelBase):
         kinetic = 0.5 * (self.M1 * s["V1"] ** 2 + self.M2 * s["V2"] ** 2)
         q = s["q"]
         low, high = axial_extremes(q, s["f1"], s["f2"], self.L1,
-                                   contact_length(self.outer, s["U1"]), self.L2)
+                                   contact_length(self.outer, s["U1"]), self.L2, s["face1"])
         return Outputs(s["V1"], s["V2"], s["U1"], s["U2"], s["f1"], s["f2"], s["W_in"],
                        s["W_outer"] + s["W_inner"], s["W_outer"], s["W_inner"], kinetic, 0.0,
                        s["W_num"], q, 0.0, 0.0, 0.0, s["W_in"], -q / self.S1,
                        float(low) / self.S1, float(high) / self.S1, self.at_rest(),
-                       int(s["s1"]), int(s["s2"]))
+                       int(s["s1"]), int(s["s2"]), s["W_face"])
 
     def modes(self) -> tuple[tuple[int, int], ...]:
         """Every internal step's contact modes (pipe_mode, plug_mode), repeats merged."""

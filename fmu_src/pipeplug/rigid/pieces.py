@@ -43,6 +43,7 @@ from .record import (
     A1,
     A2,
     END,
+    FACE3,
     FORCE0,
     FS1,
     FS2,
@@ -55,8 +56,10 @@ from .record import (
     P_LAW,
     P_M1,
     P_M2,
+    P_QP,
     S1,
     S2,
+    S3,
     T0,
     U1,
     U2,
@@ -67,7 +70,7 @@ from .record import (
 )
 
 __all__ = ["AT_REST", "PLUG_SLIDES", "TOGETHER", "BOTH_SLIDE", "PIPE_REST", "PLUG_REST", "STICK",
-           "SEGMENT", "BREAKAWAY_POS", "BREAKAWAY_NEG", "make_piece", "contact_modes", "kinematics",
+           "SEGMENT", "BREAKAWAY_POS", "BREAKAWAY_NEG", "PLUG_STOP", "make_piece", "contact_modes", "kinematics",
            "forces_of",
            "friction_work_of", "find_event", "pipe_of", "plug_of", "law_of"]
 
@@ -75,8 +78,10 @@ _INF = math.inf
 
 #: kinds of piece
 AT_REST, PLUG_SLIDES, TOGETHER, BOTH_SLIDE = 0.0, 1.0, 2.0, 3.0
-#: event labels (bits)
-PIPE_REST, PLUG_REST, STICK, SEGMENT, BREAKAWAY_POS, BREAKAWAY_NEG = 1, 2, 4, 8, 16, 32
+#: event labels (bits); PLUG_STOP: a plug sliding in a sliding pipe comes to rest in the soil,
+#: where its face's end resistance switches (:mod:`pipeplug.rigid.face`)
+PIPE_REST, PLUG_REST, STICK, SEGMENT, BREAKAWAY_POS, BREAKAWAY_NEG, PLUG_STOP = (
+    1, 2, 4, 8, 16, 32, 64)
 
 
 @jitable
@@ -206,7 +211,8 @@ def forces_of(st, par, u1):
     if kind == TOGETHER:
         if par[P_COUPLED] == 0.0:
             return f1, zero
-        return f1, -par[P_M2] * acceleration_at(pipe_of(st), u1)
+        # the plug's own face force FACE3 (0 without end resistance) is part of its balance
+        return f1, -(par[P_M2] * acceleration_at(pipe_of(st), u1) - st[FACE3])
     return f1, -st[S2] * par[P_F2] + zero
 
 
@@ -247,7 +253,11 @@ def find_event(st, par, horizon):
     t_segment = time_to_position(pipe, st[END], t_lim, xtol)
     if kind == BOTH_SLIDE:
         t_stick = _time_to_stick(st, t_lim)
-        return _earliest(t_rest, PIPE_REST, t_segment, SEGMENT, t_stick, STICK, _INF, 0)
+        t_stop = _INF
+        if st[S3] != 0.0 and par[P_QP] > 0.0:
+            t_stop = time_to_rest(plug_of(st), st[S3])
+        return _earliest(t_rest, PIPE_REST, t_segment, SEGMENT, t_stick, STICK, t_stop,
+                         PLUG_STOP)
     t_pos = t_neg = _INF
     if par[P_COUPLED] != 0.0 and pipe[3] != 0.0:
         t_pos, t_neg = _breakaways(st, par, t_lim, xtol)
@@ -267,17 +277,18 @@ def _breakaways(st, par, t_lim, xtol):
     """Times [s] at which the carried plug's static force reaches its limit forward and
     backward (``inf``: not within ``t_lim``).
 
-    The plug needs -f2 = M2 a(U), a(U) = a0 - k (U - U0); it breaks away where s a(U) reaches
-    F2/M2 (s = +1: breakaway+, s = -1: breakaway-). The piece may start with s a0 at the limit
+    The plug needs -f2 = M2 a(U) - f3, a(U) = a0 - k (U - U0), f3 its face's end force
+    (FACE3, 0 without end resistance); it breaks away where s a(U) reaches (F2 + s f3)/M2
+    (s = +1: breakaway+, s = -1: breakaway-). The piece may start with s a0 at the limit
     to round-off (it was chosen by the projection's slack): then the plug breaks away at once if
     s a grows as the body moves, else never on this side.
     """
     pipe = pipe_of(st)
     a0, k = pipe[2], pipe[3]
-    plug_limit = par[P_F2] / par[P_M2]
     moving = st[S1] * k               # s a(U) grows as the body moves iff -s moving > 0
     t_pos = t_neg = _INF
     for s in (1, -1):
+        plug_limit = (par[P_F2] + s * st[FACE3]) / par[P_M2]
         if s * a0 >= plug_limit:
             t = 0.0 if -s * moving > 0.0 else _INF
         else:

@@ -350,7 +350,7 @@ def ram_at_rest(st):
 
 @jitable
 def ram_outputs_at(st, par, t):
-    """The 24 outputs at absolute time ``t`` [s] (a float) inside the current piece, as
+    """The 25 outputs at absolute time ``t`` [s] (a float) inside the current piece, as
     :func:`pipeplug.rigid.stepping.outputs_at` with the ram (module docstring)."""
     u1, v1, u2, v2, w_in, w_outer, w_inner = values_at(st, par, t)
     dt = t - st[T0]
@@ -367,7 +367,7 @@ def ram_outputs_at(st, par, t):
     rest = 1.0 if ram_at_rest(st) else 0.0
     return (v1, v2, u1, u2, f1, f2, w_in, w_outer + w_inner, w_outer, w_inner, kinetic, held,
             0.0, head, v_ram, st[W_RAM], loss, transferred, -head / area, st[N_LOW] / area,
-            st[N_HIGH] / area, rest, st[S1], st[S2])
+            st[N_HIGH] / area, rest, st[S1], st[S2], 0.0)
 
 
 @jitable

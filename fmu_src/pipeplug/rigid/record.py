@@ -28,7 +28,11 @@ P_S1, P_L2 = P_LAW + 4, P_LAW + 5
 # The ram (:mod:`pipeplug.rigid.ram`): its mass [kg] (0: no ram), the cushion's loading and
 # unloading stiffness k and k / e^2 [N/m] (0: a direct strike) and e^2 [1]; e [1].
 P_RAM_M, P_K, P_KU, P_E2, P_E = range(P_L2 + 1, P_L2 + 6)
-N_PAR = P_E + 1
+# The end resistance (:mod:`pipeplug.rigid.face`): the pipe's Qf = q_face S1 [N], the coupled
+# plug's Qp = q_plug_face S2 [N] (0 without a plug), and FACE 1.0 when either acts (0.0: the
+# pieces are those of a model without it, bit for bit).
+P_QF, P_QP, P_FACE = range(P_E + 1, P_E + 4)
+N_PAR = P_FACE + 1
 
 # State. TIME: the model's time [s]. The piece: its start T0 [s] and force Q [N] (nan before
 # the first step), its origin U1, V1, U2, V2 [m, m/s], contact modes S1, S2 (-1, 0, 1) and KIND
@@ -57,7 +61,11 @@ N_PAR = P_E + 1
 # axial force N_LOW, N_HIGH [N], taken up to EXT_T [s]; STEPPING 1.0 while a step is under way.
 (RAM_ON, D0, VR, DMAX, W_RAM, W_CUSH, VSCALE, KICK1, ZW, RAM, DV, DA, DK, DW, RHO, DB, KB, FC0,
  ZT, N_LOW, N_HIGH, EXT_T, STEPPING) = range(ERROR + 1, ERROR + 24)
-N_STATE = STEPPING + 1
+# The end resistance (all 0.0 without it): S3 the plug/soil mode (sign of the plug's velocity,
+# 0 held), the work done against it before the piece W_FACE [J], and the soil's end forces in
+# the piece, constant there, on the pipe's annulus FACE1 and on the plug's face FACE3 [N] (<= 0).
+S3, W_FACE, FACE1, FACE3 = range(STEPPING + 1, STEPPING + 5)
+N_STATE = FACE3 + 1
 
 
 def parameter_record(params, growth: bool) -> list:
@@ -67,12 +75,13 @@ def parameter_record(params, growth: bool) -> list:
     of many cases (then each entry is an array over the cases).
     """
     coupled = params.has_plug
-    law = outer_contact_for(params.P1, params.L1, params.tau1, growth)
+    law = outer_contact_for(params.P1, params.L1, params.tau1, growth, params.q_face)
     e = params.cushion_restitution
     k = params.cushion_stiffness
+    qf, qp = params.F_face, coupled * params.F_plug_face
     return [params.M1, coupled * params.M2, coupled * params.F2, coupled * 1.0, *law,
             params.S1 + 0.0 * params.L1, coupled * params.L2, params.ram_mass, k, k / (e * e),
-            e * e, e]
+            e * e, e, qf, qp, 1.0 * ((qf > 0.0) | (qp > 0.0))]
 
 
 def state_record() -> list:

@@ -17,6 +17,7 @@ import math
 
 from ..contact.outer import contact_length
 from ..jit import compiled_form, jitable
+from .face import face_work_at, make_face_piece
 from .motion import acceleration_at, travel, ulp
 from .pieces import (
     AT_REST,
@@ -24,6 +25,7 @@ from .pieces import (
     BREAKAWAY_POS,
     PIPE_REST,
     PLUG_REST,
+    PLUG_STOP,
     SEGMENT,
     STICK,
     find_event,
@@ -38,6 +40,7 @@ from .pieces import (
 from .record import (
     END,
     ERROR,
+    FACE1,
     HORIZON,
     KICK,
     KIND,
@@ -45,13 +48,16 @@ from .record import (
     LOGGED,
     MODE,
     P_COUPLED,
+    P_FACE,
     P_L2,
     P_LAW,
     P_M1,
     P_M2,
+    P_QP,
     P_S1,
     S1,
     S2,
+    S3,
     SEARCHED,
     T0,
     T_EVENT,
@@ -60,6 +66,7 @@ from .record import (
     U1,
     U2,
     V1,
+    W_FACE,
     W_IN,
     W_INNER,
     W_OUTER,
@@ -116,7 +123,10 @@ def start_piece(st, par, log, t0, u1, v1, u2, v2, w_in, w_outer, w_inner, q, kic
     ``horizon`` [s] after ``t0``."""
     st[W_IN], st[W_OUTER], st[W_INNER] = w_in, w_outer, w_inner
     st[KICK] = kick
-    make_piece(st, par, t0, u1, v1, u2, v2, 0.0 if math.isnan(q) else q, kick)
+    if par[P_FACE] != 0.0:            # end resistance (its work before the piece: W_FACE)
+        make_face_piece(st, par, t0, u1, v1, u2, v2, 0.0 if math.isnan(q) else q, kick)
+    else:
+        make_piece(st, par, t0, u1, v1, u2, v2, 0.0 if math.isnan(q) else q, kick)
     st[Q] = q
     log_mode(st, log)
     _search(st, par, horizon)
@@ -174,6 +184,8 @@ def _restart(st, par, log, q, t_end):
     events up to ``t_end`` [s]."""
     t = st[TIME]
     u1, v1, u2, v2, w_in, w_outer, w_inner = values_at(st, par, t)
+    if par[P_FACE] != 0.0:
+        st[W_FACE] = face_work_at(st, t - st[T0])
     s1, s2 = st[S1], st[S2]
     if s1 != 0 and v1 * s1 < 0.0:     # round-off past a stop that was not reached
         v1 = 0.0
@@ -181,6 +193,8 @@ def _restart(st, par, log, q, t_end):
         if s1 != 0:
             v1 = _common_velocity(par, v1, v2)
         v2 = v1
+    if par[P_QP] > 0.0 and st[S3] != 0 and v2 * st[S3] < 0.0:   # a plug face's stop
+        v2 = 0.0
     start_piece(st, par, log, t, u1, v1, u2, v2, w_in, w_outer, w_inner, q, 0, t_end - t)
 
 
@@ -189,6 +203,8 @@ def _take_event(st, par, log):
     """Move the origin to the next event, set the exact post-event values, re-decide modes."""
     t = st[T_EVENT]
     u1, v1, u2, v2, w_in, w_outer, w_inner = values_at(st, par, t)
+    if par[P_FACE] != 0.0:
+        st[W_FACE] = face_work_at(st, t - st[T0])
     labels = int(st[LABELS])
     kick = 0
     if labels & PIPE_REST:
@@ -200,6 +216,8 @@ def _take_event(st, par, log):
         v2 = v1
     elif stick:
         v1 = v2 = _common_velocity(par, v1, v2)
+    if labels & PLUG_STOP and not stick:
+        v2 = 0.0
     if labels & BREAKAWAY_POS:
         kick = 1
     if labels & BREAKAWAY_NEG:
@@ -279,8 +297,9 @@ def at_rest(st):
 
 @jitable
 def outputs_at(st, par, t):
-    """The 24 outputs of :data:`pipeplug.interface.OUTPUTS` at absolute time(s) ``t`` [s]
+    """The 25 outputs of :data:`pipeplug.interface.OUTPUTS` at absolute time(s) ``t`` [s]
     inside the current piece (floats; at_rest and the modes as 0.0/1.0 and -1.0/0.0/1.0).
+    The soil's end force on the pipe (FACE1) bears on its front end: the axial force there.
     Rigid bodies store no strain energy, the exact solution dissipates nothing but friction
     work, and no ram strikes (a model with a ram runs :mod:`~pipeplug.rigid.ramstep`): the head
     force is Q, its work the input work, and the axial
@@ -292,11 +311,12 @@ def outputs_at(st, par, t):
     kinetic = 0.5 * (par[P_M1] * v1 * v1 + par[P_M2] * v2 * v2)
     q = (st[Q] if st[Q] == st[Q] else 0.0) + zero      # nan before the first step
     low, high = axial_extremes(q, f1, f2, par[P_LAW + 3], contact_length(law_of(par), u1),
-                               par[P_L2])
+                               par[P_L2], st[FACE1])
     area = par[P_S1]
+    w_face = face_work_at(st, t - st[T0]) if par[P_FACE] != 0.0 else zero
     return (v1, v2, u1, u2, f1, f2, w_in, w_outer + w_inner, w_outer, w_inner, kinetic, zero,
             zero, q, zero, zero, zero, w_in, -q / area, low / area, high / area, rest,
-            st[S1] + zero, st[S2] + zero)
+            st[S1] + zero, st[S2] + zero, w_face)
 
 
 @jitable(inline=True)
@@ -309,7 +329,7 @@ def _kinematics_at(st, par, t):
 def sample_into(st, par, log, loads, times, table, first):
     """Dense output: advance through ``times[first:]`` [s] under the struck-end force
     ``loads[j]`` [N] over the interval ending at ``times[j]``, writing the outputs at
-    ``times[j]`` into ``table[:, j]``: all of :data:`pipeplug.interface.OUTPUTS` (24 rows) or
+    ``times[j]`` into ``table[:, j]``: all of :data:`pipeplug.interface.OUTPUTS` (25 rows) or
     the kinematics alone (their first four); modes logged as by :func:`step_to`.
 
     Each piece is evaluated for all the sample times it covers at once, so a long record costs
@@ -389,7 +409,8 @@ def _fill_loop(st, par, times, lo, hi, table):
         (rows[0, j], rows[1, j], rows[2, j], rows[3, j], rows[4, j], rows[5, j], rows[6, j],
          rows[7, j], rows[8, j], rows[9, j], rows[10, j], rows[11, j], rows[12, j], rows[13, j],
          rows[14, j], rows[15, j], rows[16, j], rows[17, j], rows[18, j], rows[19, j],
-         rows[20, j], rows[21, j], rows[22, j], rows[23, j]) = outputs_at(st, par, t[j])
+         rows[20, j], rows[21, j], rows[22, j], rows[23, j], rows[24, j]) = outputs_at(st, par,
+                                                                                     t[j])
 
 
 @compiled_form(_fill_loop)

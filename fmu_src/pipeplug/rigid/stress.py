@@ -2,14 +2,15 @@
 
 A rigid pipe of mass ``M1`` and length ``L1`` accelerates as one body under the head force
 ``F_head`` (at x = 0, positive into the soil), the soil's friction ``F_outer`` spread evenly
-over its contact (the last ``Lc`` of the pipe) and the plug's ``F_inner`` spread evenly over the
-plug (the last ``L2``). The axial force (tension positive) is then piecewise linear::
+over its contact (the last ``Lc`` of the pipe), the plug's ``F_inner`` spread evenly over the
+plug (the last ``L2``) and the soil's end resistance ``F_face`` (<= 0) on its front end, x = L1.
+The axial force (tension positive) is then piecewise linear::
 
-    N(x) = -F_head + (F_head + F_outer + F_inner) x / L1
+    N(x) = -F_head + (F_head + F_outer + F_inner + F_face) x / L1
            - F_outer max(0, x - (L1 - Lc)) / Lc - F_inner max(0, x - (L1 - L2)) / L2
 
-(the inertia of the part before x less the friction on it), 0 at x = L1; its extremes lie at
-x = 0, L1 - Lc, L1 - L2 or L1.
+(the inertia of the part before x less the friction on it), F_face at x = L1; its extremes lie
+at x = 0, L1 - Lc, L1 - L2 or L1.
 """
 from __future__ import annotations
 
@@ -29,20 +30,25 @@ def _spread(force, start, length, x):
 
 
 @jitable
-def axial_force_at(x, head, outer, inner, L1, Lc, L2):
-    """N(x) [N] (module docstring); forces may be arrays (dense output)."""
-    return (-head + (head + outer + inner) * (x / L1) - _spread(outer, L1 - Lc, Lc, x)
+def axial_force_at(x, head, outer, inner, L1, Lc, L2, face=0.0):
+    """N(x) [N] (module docstring); forces may be arrays (dense output), ``face`` [N] a float."""
+    total = head + outer + inner
+    if face != 0.0:                   # (no addition of 0: the signs of zeros stay those of before)
+        total = total + face
+    return (-head + total * (x / L1) - _spread(outer, L1 - Lc, Lc, x)
             - _spread(inner, L1 - L2, L2, x))
 
 
 @jitable
-def axial_extremes(head, outer, inner, L1, Lc, L2):
+def axial_extremes(head, outer, inner, L1, Lc, L2, face=0.0):
     """The smallest and largest axial force along the pipe [N]: of N at the head (-F_head), at
-    the free end (0) and at the two breaks; floats, or arrays over times (dense output)."""
-    at_contact = axial_force_at(L1 - Lc, head, outer, inner, L1, Lc, L2)
-    at_plug = axial_force_at(L1 - L2, head, outer, inner, L1, Lc, L2)
-    low = np.minimum(np.minimum(-head, 0.0 * head), np.minimum(at_contact, at_plug))
-    high = np.maximum(np.maximum(-head, 0.0 * head), np.maximum(at_contact, at_plug))
+    the front end (F_face, 0 without end resistance) and at the two breaks; floats, or arrays
+    over times (dense output)."""
+    at_contact = axial_force_at(L1 - Lc, head, outer, inner, L1, Lc, L2, face)
+    at_plug = axial_force_at(L1 - L2, head, outer, inner, L1, Lc, L2, face)
+    end = 0.0 * head if face == 0.0 else face + 0.0 * head
+    low = np.minimum(np.minimum(-head, end), np.minimum(at_contact, at_plug))
+    high = np.maximum(np.maximum(-head, end), np.maximum(at_contact, at_plug))
     return low, high
 
 

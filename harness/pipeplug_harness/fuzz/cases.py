@@ -18,7 +18,12 @@ Domains drawn (SI units):
   largest load over the whole length), or exactly that stress;
 * model II (contact growth) for 60 % of the cases: the pipe penetrates past ``L1`` and is
   pulled back past 0;
-* stop time: the end of the loads plus 0-0.3 s, or inside the last segment.
+* stop time: the end of the loads plus 0-0.3 s, or inside the last segment;
+* end resistance (from a stream of its own, ``spawn_key=(index, 1)``, so that everything else
+  is the case it was before): ``q_face`` 0 (half of the cases) or such that ``Qf = q_face S1``
+  is 0-1.3 times ``max|Q|``; ``q_plug_face`` 0 (half) or ``Qp = q_plug_face S2`` 0.1-10 times
+  the plug's limit ``F2`` (log-uniform: a plug held by its face, coring, or carried); a quarter
+  of the loads then moved exactly to a limit of the window: +-(F1 + Qf), F1 + Qf + min(F2, Qp).
 
 Grids (all start at 0, end at the stop time and hold every load edge before it, plus the
 case's common sample times): ``coarse`` (2-5 uniform points), ``fine`` (150-400 uniform
@@ -103,8 +108,9 @@ class Case:
         return {"solver": "exact", "contact_growth": self.growth}
 
 
-def generate(seed: int, index: int, plan: Plan = Plan()) -> Case:
-    """Case ``index`` of the fuzz run ``seed`` (see the module docstring)."""
+def generate(seed: int, index: int, plan: Plan = Plan(), faces: bool = True) -> Case:
+    """Case ``index`` of the fuzz run ``seed`` (see the module docstring); ``faces=False``:
+    without end resistance (the case as it was before it existed)."""
     rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index,)))
     growth = bool(rng.random() < 0.6)
     L1 = 1.0 if rng.random() < 0.7 else float(10.0 ** rng.uniform(math.log10(0.3), math.log10(3)))
@@ -132,6 +138,10 @@ def generate(seed: int, index: int, plan: Plan = Plan()) -> Case:
     stop = max(stop, float(durations[0]) * 0.5)
     samples = tuple(sorted(float(t) for t in rng.uniform(0.0, stop, 4))) + (stop,)
     params = dict(L1=L1, L2=L2, R1=_R1, h1=_H1, rho1=_RHO1, rho2=rho2, tau1=tau1, tau2=tau2)
+    if faces:
+        face = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index, 1)))
+        params.update(_faces(face, q_max, F2, S1, S2))
+        segments = _face_limit_loads(face, segments, F1, F2, params, S1, S2)
     grids = _grids(rng, segments, stop, samples)
     host_h = stop / int(rng.integers(10, 301))
     return Case(seed, index, growth, params, segments, stop, samples, grids, host_h,
@@ -147,6 +157,28 @@ def _plug(rng, L1: float, M1: float, S2: float, P2: float) -> tuple[float, float
     rho2 = float(10.0 ** rng.uniform(-6.0, 3.0) * M1 / (S2 * L2))
     tau2 = 0.0 if r < 0.16 else float(10.0 ** rng.uniform(1.0, 5.0) / (P2 * L2))
     return L2, rho2, tau2
+
+
+def _faces(rng, q_max: float, F2: float, S1: float, S2: float) -> dict:
+    """``q_face``, ``q_plug_face`` [Pa] (module docstring)."""
+    qf = float(rng.uniform(0.0, 1.3) * q_max) if rng.random() < 0.5 else 0.0
+    qp = float(F2 * 10.0 ** rng.uniform(-1.0, 1.0)) if rng.random() < 0.5 else 0.0
+    return {"q_face": qf / S1, "q_plug_face": qp / S2}
+
+
+def _face_limit_loads(rng, segments, F1: float, F2: float, params: dict, S1: float,
+                      S2: float) -> tuple:
+    """A quarter of the loads moved to a limit of the end resistance's window (none without
+    one)."""
+    qf, qp = params["q_face"] * S1, params["q_plug_face"] * S2
+    if qf == 0.0 and qp == 0.0:
+        return segments
+    limits = (F1 + qf, -(F1 + qf), F1 + qf + min(F2, qp), F1 + min(F2, qp))
+    out = []
+    for d, q in segments:
+        pick = int(rng.integers(len(limits)))
+        out.append((d, float(limits[pick]) if rng.random() < 0.25 else q))
+    return tuple(out)
 
 
 def _limit_loads(F1: float, F2: float, M1: float, M2: float) -> tuple[float, ...]:

@@ -44,9 +44,10 @@ CHECKS: dict[str, Check] = {
                                   "where a contact mode differs from the reference's"),
     "grid": Check(1e-12, "coarse vs fine vs irregular grid at the common sample times: "
                          "largest |difference| / scale over all outputs (modes: exact)"),
-    "energy": Check(1e-12, "|W_input - kinetic energy - W_friction| / largest work"),
-    "friction work": Check(0.0, "largest decrease of W_friction, W_friction_outer or "
-                                "W_friction_inner between two points / largest work"),
+    "energy": Check(1e-12, "|W_input - kinetic energy - W_friction - W_face| / largest work"),
+    "friction work": Check(0.0, "largest decrease of W_friction, W_friction_outer, "
+                                "W_friction_inner or W_face between two points / largest "
+                                "work"),
     "stuck": Check(0.0, "points where a stuck contact's relative velocity is not exactly 0 "
                         "(pipe_mode 0: v_pipe; plug_mode 0: v_pipe - v_plug), or, without a "
                         "plug, a plug output is not exactly 0"),
@@ -62,9 +63,9 @@ CHECKS: dict[str, Check] = {
                                "E_strain, W_cushion below -1e-12 of the largest work, "
                                "W_numerical != 0, W_friction > W_input + W_ram, or a "
                                "non-finite output"),
-    "ledger": Check(1.0, "model III: |W_input - E_kinetic - E_strain - W_friction - "
-                         "W_numerical| / ((1e-12 + 2.2e-16 n) x largest work or energy of the "
-                         "run), n the internal steps so far"),
+    "ledger": Check(1.0, "model III: |W_input + W_ram - E_kinetic - E_strain - W_friction - "
+                         "W_numerical - W_cushion - W_face| / ((1e-12 + 2.2e-16 n) x largest "
+                         "work or energy of the run), n the internal steps so far"),
     "energies": Check(0.0, "model III: points with a negative E_kinetic or E_strain, W_numerical "
                            "!= 0, W_friction > W_input, a non-finite output, or at_rest while "
                            "moving"),
@@ -89,8 +90,8 @@ CHECKS: dict[str, Check] = {
 
 #: outputs compared with the reference at every point
 CONTINUOUS = ("v_pipe", "v_plug", "u_pipe", "u_plug", "W_input", "W_friction",
-              "W_friction_outer", "W_friction_inner")
-_WORKS = ("W_input", "W_friction", "W_friction_outer", "W_friction_inner")
+              "W_friction_outer", "W_friction_inner", "W_face")
+_WORKS = ("W_input", "W_friction", "W_friction_outer", "W_friction_inner", "W_face")
 #: Outputs measured on one scale, the largest magnitude over the run of any of them. The
 #: plug's velocity is set to the pipe's at each stick, so it is known to the pipe's absolute
 #: accuracy (an event time one ulp off times the pipe's deceleration), not to a share of its
@@ -112,15 +113,20 @@ class Body(NamedTuple):
     k1: float          #: P1 tau1 [N/m]
     L1: float
     growth: bool
+    Qf: float = 0.0    #: the annulus' end resistance q_face S1 [N]
+    Qp: float = 0.0    #: the plug face's q_plug_face S2 [N] (0 without a plug)
 
     @classmethod
     def of(cls, params: dict, growth: bool) -> Body:
         R1, h1, L1 = params["R1"], params["h1"], params["L1"]
-        M1 = params["rho1"] * math.pi * ((R1 + h1) ** 2 - R1 ** 2) * L1
+        S1 = math.pi * ((R1 + h1) ** 2 - R1 ** 2)
+        M1 = params["rho1"] * S1 * L1
         plug = params["L2"] > 0.0 and params["tau2"] > 0.0
         M2 = params["rho2"] * math.pi * R1 ** 2 * params["L2"] if plug else 0.0
         F2 = 2.0 * math.pi * R1 * params["L2"] * params["tau2"] if plug else 0.0
-        return cls(M1, M2, F2, 2.0 * math.pi * (R1 + h1) * params["tau1"], L1, growth)
+        qp = params.get("q_plug_face", 0.0) * math.pi * R1 ** 2 if plug else 0.0
+        return cls(M1, M2, F2, 2.0 * math.pi * (R1 + h1) * params["tau1"], L1, growth,
+                   params.get("q_face", 0.0) * S1, qp)
 
     @property
     def plug(self) -> bool:
@@ -190,10 +196,11 @@ def _family_scales(stack) -> list[float]:
 
 
 def energy_error(rows, body: Body) -> float:
-    """Largest |W_input - kinetic energy - W_friction| over the largest work."""
+    """Largest |W_input - kinetic energy - W_friction - W_face| over the largest work."""
     v1, v2 = rows[:, COLUMN["v_pipe"]], rows[:, COLUMN["v_plug"]]
     kinetic = 0.5 * body.M1 * v1 * v1 + 0.5 * body.M2 * v2 * v2
-    balance = rows[:, COLUMN["W_input"]] - kinetic - rows[:, COLUMN["W_friction"]]
+    balance = (rows[:, COLUMN["W_input"]] - kinetic - rows[:, COLUMN["W_friction"]]
+               - rows[:, COLUMN["W_face"]])
     return relative_error(balance, 0.0, _scale(*(rows[:, COLUMN[n]] for n in _WORKS)))
 
 
@@ -201,7 +208,7 @@ def friction_decrease(rows) -> float:
     """Largest decrease of a friction work between consecutive points (from 0 at t = 0),
     over the largest work."""
     worst = 0.0
-    for name in ("W_friction", "W_friction_outer", "W_friction_inner"):
+    for name in ("W_friction", "W_friction_outer", "W_friction_inner", "W_face"):
         steps = np.diff(np.concatenate([[0.0], rows[:, COLUMN[name]]]))
         worst = max(worst, float(-np.min(steps, initial=0.0)))
     return relative_error(worst, 0.0, _scale(*(rows[:, COLUMN[n]] for n in _WORKS)))

@@ -21,7 +21,10 @@ it is run on. Domains drawn (SI units):
 * a ram for 40 % of the cases: 0.05-20 pipe masses (at least 1.5 cells), striking directly or
   through a cushion of 1e-3-1 times a cell's stiffness (within the internal step's limit), with
   restitution 0.5-1 (1 for a third); 70 % of its blows are strikes at 0.5-10 m/s instead of a
-  force (a strike starts at the blow's start).
+  force (a strike starts at the blow's start);
+* end resistance (a stream of its own, ``spawn_key=(index, 5)``; none for the free rods):
+  ``q_face`` 0 (half of the cases) or ``q_face S1`` 0.01-3 times the blows' force scale,
+  ``q_plug_face`` 0 (half) or ``q_plug_face S2`` 0.1-10 times the plug's limit (log-uniform).
 
 Grids (all end at the stop time and hold every blow edge and the common sample times, which
 are grid points): ``multiples`` (steps of 1-40 internal steps), ``random`` (random points, most
@@ -108,6 +111,8 @@ def generate_elastic(seed: int, index: int, plan: Plan = _PLAN) -> ElasticCase:
     h = internal_step(params)
     ram = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index, 4)))
     params.update(_ram(ram, params, h))
+    face = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index, 5)))
+    params.update(_faces(face, params))
     edges, loads, stop = _blows(rng, params, h)
     strikes = ()
     if params["ram_mass"] > 0.0:
@@ -135,6 +140,19 @@ def _ram(rng, params: dict, h: float) -> dict:
         largest = min(2.0 * mass, 2.0 * cell_mass - cell_stiffness * h * h) / (h * h)
         stiffness = min(_log(rng, 1e-3, 1.0) * cell_stiffness, 0.9 * largest) * e * e
     return dict(ram_mass=mass, cushion_stiffness=stiffness, cushion_restitution=e)
+
+
+def _faces(rng, params: dict) -> dict:
+    """``q_face``, ``q_plug_face`` [Pa] (module docstring)."""
+    p = params
+    if p["tau1"] == 0.0 and p["tau2"] == 0.0 and p["courant"] == 1.0:
+        return dict(q_face=0.0, q_plug_face=0.0)      # the free rods keep their reference
+    S1 = math.pi * ((p["R1"] + p["h1"]) ** 2 - p["R1"] ** 2)
+    S2 = math.pi * p["R1"] ** 2
+    F2 = 2 * math.pi * p["R1"] * p["L2"] * p["tau2"]
+    qf = _log(rng, 0.01, 3.0) * _scale_force(p) / S1 if rng.random() < 0.5 else 0.0
+    qp = _log(rng, 0.1, 10.0) * F2 / S2 if (rng.random() < 0.5 and F2 > 0.0) else 0.0
+    return dict(q_face=qf, q_plug_face=qp)
 
 
 def _strikes(rng, edges, loads):

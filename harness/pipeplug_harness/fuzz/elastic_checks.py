@@ -32,15 +32,18 @@ class RodBody(NamedTuple):
     F2: float          #: plug friction limit (0 when the plug is not simulated)
     m_ram: float = 0.0  #: the ram's mass (0: no ram)
     m_cell: float = 0.0  #: one cell of the pipe
+    F_face: float = 0.0  #: the end resistances q_face S1 + q_plug_face S2 (a simulated plug)
 
     @classmethod
     def of(cls, p: dict) -> RodBody:
         S1 = math.pi * ((p["R1"] + p["h1"]) ** 2 - p["R1"] ** 2)
         plug = p["tau2"] > 0.0 and p["L2"] > 0.0
+        face = (p.get("q_face", 0.0) * S1
+                + (p.get("q_plug_face", 0.0) * math.pi * p["R1"] ** 2 if plug else 0.0))
         return cls(p["rho1"] * S1 * p["L1"], S1 * math.sqrt(p["E1"] * p["rho1"]),
                    2 * math.pi * (p["R1"] + p["h1"]) * p["L1"] * p["tau1"],
                    2 * math.pi * p["R1"] * p["L2"] * p["tau2"] if plug else 0.0,
-                   p.get("ram_mass", 0.0), p["rho1"] * S1 * p["dx"])
+                   p.get("ram_mass", 0.0), p["rho1"] * S1 * p["dx"], face)
 
     def cushion_allowance(self, strikes) -> float:
         """How far below 0 the cushion's loss may fall [J]: a separation never lowers it
@@ -107,17 +110,17 @@ def energy_violations(rows, cushion_allowance: float = 0.0, m_ram: float = 0.0,
 
 
 def bound_ratio(rows, loads, steps, body: RodBody, h: float, strikes=(), starts=()) -> float:
-    """Largest |v_pipe| over a physical bound at each point: the rigid pipe's velocity under
-    the impulse of |Q| so far (the bound of any mean velocity), plus a wave of 2 |Q| / Z1 for
-    every change of the load so far (each piece of load sends a wave that doubles at an end,
-    and a train in step with the wave's round trip piles them up) and the waves of both
-    frictions, 2 (F1 + F2) / Z1. The impulse is counted to the next internal step (the model
-    applies a step's mean force). A strike at ``v`` [m/s] (``strikes``: (time, v); ``starts``
-    [s] the start of each row's step) adds the impulse 2 m_ram |v| (the ram cannot leave
-    faster than it came) and waves of 4 |v| (the head never outruns the ram: a wave of |v| at
-    most, doubled at an end, and again by the ram's return). A scheme that diverges exceeds
-    it by orders of magnitude; the physics of a free rod (d'Alembert) stays within it and can
-    reach it (1e-9 allows for the sums' round-off)."""
+    """Largest |v_pipe| over a physical bound at each point: the rigid pipe's velocity under the
+    impulse of |Q| so far (the bound of any mean velocity), plus a wave of 2 |Q| / Z1 for every
+    change of the load so far (each piece of load sends a wave that doubles at an end, and a
+    train in step with the wave's round trip piles them up) and the waves of both frictions and
+    end resistances, 2 (F1 + F2 + Qf + Qp) / Z1. The impulse is counted to the next internal
+    step (the model applies a step's mean force). A strike at ``v`` [m/s] (``strikes``: (time,
+    v); ``starts`` [s] the start of each row's step) adds the impulse 2 m_ram |v| (the ram
+    cannot leave faster than it came) and waves of 4 |v| (the head never outruns the ram: a
+    wave of |v| at most, doubled at an end, and again by the ram's return). A scheme that
+    diverges exceeds it by orders of magnitude; the physics of a free rod (d'Alembert) stays
+    within it and can reach it (1e-9 allows for the sums' round-off)."""
     q = np.abs(loads)
     impulse = np.cumsum(q * steps) + q * h
     new_piece = np.r_[True, loads[1:] != loads[:-1]]
@@ -125,7 +128,7 @@ def bound_ratio(rows, loads, steps, body: RodBody, h: float, strikes=(), starts=
     struck = np.zeros(len(q))
     for t, v in strikes:
         struck[np.asarray(starts) >= t] += abs(v)
-    bound = (impulse / body.M1 + 2.0 * (waves + body.F1 + body.F2) / body.Z1
+    bound = (impulse / body.M1 + 2.0 * (waves + body.F1 + body.F2 + body.F_face) / body.Z1
              + struck * (2.0 * body.m_ram / body.M1 + 4.0)) * (1.0 + 1e-9)
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = np.where(bound > 0.0, np.abs(_column(rows, "v_pipe")) / bound,

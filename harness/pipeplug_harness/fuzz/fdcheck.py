@@ -79,7 +79,7 @@ BUDGET = 20000    #: largest number of steps at the coarsest level
 GRAZE = 1e-2      #: relative load perturbation that must not change the event sequence
 G_MAX = 10.0      #: largest growth factor whose order is measured
 
-_MODES = re.compile(r"pipe ([+-]\d+), plug ([+-]\d+)$")
+_MODES = re.compile(r"pipe ([+-]\d+), plug ([+-]\d+)(?:, face ([+-]\d+))?$")
 _FAMILY = {"v_pipe": 1, "v_plug": 1, "u_pipe": 0, "u_plug": 0}      # else 2 (works)
 
 
@@ -148,11 +148,14 @@ def _rates(rows, grid, loads, body: Body, stop: float) -> tuple[tuple, float]:
     c = COLUMN
     v1, v2 = rows[:, c["v_pipe"]], rows[:, c["v_plug"]]
     f1, f2 = rows[:, c["F_outer"]], rows[:, c["F_inner"]]
-    a1 = (loads + f1 + f2) / body.M1
-    a2 = -f2 / body.M2 if body.plug else 0.0 * f2
+    # the end resistance while an end advances (its static share at rest only adds to a1)
+    e1, e3 = -body.Qf * (v1 > 0.0), -body.Qp * (v2 > 0.0)
+    a1 = (loads + f1 + f2 + e1) / body.M1
+    a2 = (e3 - f2) / body.M2 if body.plug else 0.0 * f2
     peak = lambda *xs: max(float(np.max(np.abs(x), initial=0.0)) for x in xs)  # noqa: E731
     V, A = peak(v1, v2), peak(a1, a2)
-    P, F = peak(loads * v1, f1 * v1, f2 * (v1 - v2)), peak(loads, f1, f2)
+    P = peak(loads * v1, f1 * v1, f2 * (v1 - v2), e1 * v1, e3 * v2)
+    F = max(peak(loads, f1, f2), body.Qf, body.Qp)
     return (V + A * stop, A, P + F * A * stop), _growth(rows, grid, body)
 
 
@@ -205,12 +208,13 @@ def _uniform(a: float, b: float, h: float) -> list[float]:
     return list(np.linspace(a, b, n + 1)[1:])
 
 
-def mode_sequence(events) -> list[tuple[int, int]]:
-    """The reference's contact modes (pipe, plug) after each decision, repeats removed."""
+def mode_sequence(events) -> list[tuple[int, ...]]:
+    """The reference's contact modes (pipe, plug, and the plug's face with end resistance)
+    after each decision, repeats removed."""
     modes = []
     for _, text in events:
         m = _MODES.search(text)
-        pair = (int(m.group(1)), int(m.group(2)))
+        pair = tuple(int(g) for g in m.groups() if g is not None)
         if not modes or modes[-1] != pair:
             modes.append(pair)
     return modes

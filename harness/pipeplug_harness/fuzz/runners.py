@@ -82,10 +82,20 @@ def _rest_violated(model, out, t: float, stop: float) -> int:
 
 
 def run_reference(case: Case, times, params=None) -> dict:
-    """The independent reference (DOP853, :mod:`pipeplug_references.rigid_ivp`) at ``times``."""
+    """The independent reference (DOP853, :mod:`pipeplug_references.rigid_ivp`, or
+    :mod:`pipeplug_references.face_ivp` with end resistance) at ``times``; ``W_face`` is 0
+    without end resistance."""
+    params = dict(params or case.params)
+    faces = {k: params.pop(k, 0.0) for k in ("q_face", "q_plug_face")}
+    if any(faces.values()):
+        from pipeplug_references.face_ivp import simulate_face
+
+        return simulate_face({**params, **faces}, case.segments, times, case.growth)
     from pipeplug_references.rigid_ivp import simulate
 
-    return simulate(params or case.params, case.segments, times, case.growth)
+    out = simulate(params, case.segments, times, case.growth)
+    out["W_face"] = np.zeros(len(np.atleast_1d(times)))
+    return out
 
 
 class FmuHost:

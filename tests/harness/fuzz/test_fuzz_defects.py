@@ -129,3 +129,21 @@ def test_a_path_that_differs_from_the_first_by_rounding_fails_the_paths_check(mo
     assert _failed(summary, "paths") >= 3
     assert _failed(summary, "paths", "python") == 0
     assert all(_failed(summary, check) == 0 for check in INVARIANTS)
+
+
+def _weak_face(params, options):
+    """The end resistances 1e-6 too weak: consistent with itself (ledger, invariants)."""
+    return build_model({**params, "q_face": params.get("q_face", 0.0) * (1.0 - 1e-6),
+                        "q_plug_face": params.get("q_plug_face", 0.0) * (1.0 - 1e-6)}, options)
+
+
+def test_a_wrong_end_resistance_fails_the_reference_check_only(monkeypatch):
+    summary = _run(monkeypatch, _weak_face, cases=20)
+    assert _failed(summary, "reference") >= 3
+    assert all(_failed(summary, check) == 0 for check in INVARIANTS)
+
+
+def test_end_resistance_work_that_is_not_booked_fails_the_energy_check(monkeypatch):
+    summary = _run(monkeypatch, skewed(lambda out, m: out._replace(W_face=0.0)), cases=20,
+                   plan=Plan(0, 0, 0))
+    assert _failed(summary, "energy") >= 3
