@@ -180,7 +180,7 @@ def strike(st, par, log, velocity):
     st[RAM_ON], st[VSCALE] = 1.0, 0.0
     closing = 0.0
     if par[P_K] == 0.0 and velocity > v1:
-        v1, velocity, lost, closing = impact(st, par, v1, velocity)
+        v1, velocity, lost, closing = impact(st, par, v1, velocity, t)
         loss += lost
     _origin(st, 0.0, velocity, 0.0, loss, 0.0, closing)
     if par[P_COUPLED] == 0.0:
@@ -248,7 +248,7 @@ def _take_event(st, par, log):
     if labels & CONTACT:
         delta = st[DB]
         if par[P_K] == 0.0 and v_ram > v1:
-            v1, v_ram, lost, closing = impact(st, par, v1, v_ram)
+            v1, v_ram, lost, closing = impact(st, par, v1, v_ram, t)
             loss += lost
     if par[P_COUPLED] == 0.0:
         u2 = v2 = 0.0
