@@ -34,8 +34,9 @@ Exact pieces (model I: the soil's friction is constant while the pipe slides; al
   monotone, so four values decide it) the sequence is one piece (:data:`ZENO`), summed in
   closed form to its accumulation point; after it the ram rides on the pipe (:data:`RIDING`)
   while the contact stays compressive, and leaves when it would pull. An impact slower than
-  :data:`PLASTIC` of the fastest since the strike is taken as perfectly plastic (the rest of a
-  sequence of hops of a pipe stopping between impacts moves the bodies by less than round-off).
+  :data:`PLASTIC` of the fastest since the strike, or than time can resolve (:func:`impact`),
+  is taken as perfectly plastic (the rest of a sequence of hops of a pipe stopping between
+  impacts moves the bodies by less than round-off).
 
 Model II (the soil's friction growing with the penetration) with a ram gives two coupled
 frequencies and is refused when the model is built, as is the paper's explicit scheme.
