@@ -256,7 +256,11 @@ def _piece(s, r, y, st, t, tb, times, k, rtol):
         add(lambda z: z[5] - z[1], 0, "turn")
         evs[-1].terminal = False
     touch = (1.0 - r.e ** 2) * dmax if r.k > 0.0 else 0.0
-    if c == FREE and st["struck"]:
+    # A flying ram's compression is a quadratic (the pipe's acceleration is constant in a
+    # piece): with no relative velocity and acceleration (a ram left against a pipe that has
+    # stopped) it stays where it is and meets nothing.
+    still = y[5] == y[1] and _accel(s, r, q, p, rr, FREE, 0.0)[0] == 0.0
+    if c == FREE and st["struck"] and not still:
         add(lambda z: z[4] - touch, 1, "ram reaches the head")
         # the compression's largest value: a crossing of ``touch`` and back within one step
         # of the integrator hides from the event above; it shows past this one
@@ -270,12 +274,20 @@ def _piece(s, r, y, st, t, tb, times, k, rtol):
                     atol=atol, dense_output=True)
     if sol.status < 0:
         raise RuntimeError(sol.message)
+    if c == RIDE:
+        # A riding ram is one body with the pipe: its velocity is the pipe's and the
+        # compression stays. Integrated apart, the two velocities end a round-off apart (the
+        # stages' sums round the components differently), which the next decision (a load
+        # change) would take for the ram leaving a pipe that still presses on it.
+        sol.sol = _riding(sol.sol, y[4])
     t_end, y_end, name = tb, sol.y[:, -1].copy(), None
     if sol.status == 1:
         i = next(i for i, te in enumerate(sol.t_events) if len(te) and evs[i].terminal)
         t_end, y_end, name = float(sol.t_events[i][-1]), sol.y_events[i][-1].copy(), evs[i].name
     if c in (LOAD, UNLOAD):
         t_end, y_end, name = _hidden_levels(evs, sol, t, y, t_end, y_end, name)
+    if c == RIDE:
+        y_end[4], y_end[5] = y[4], y_end[1]
     for i, event in enumerate(evs):
         if event.name == "closest approach" and y[4] < touch:
             hidden = [tt for tt, z in zip(sol.t_events[i], sol.y_events[i])
@@ -285,6 +297,16 @@ def _piece(s, r, y, st, t, tb, times, k, rtol):
                                rtol=4.0 * np.finfo(float).eps)
                 y_end, name = sol.sol(t_end), "ram reaches the head"
     return t_end, y_end, name, sol
+
+
+def _riding(dense, d):
+    """The dense output ``dense`` with the ram's state pinned to the pipe's: compression ``d``,
+    the pipe's velocity."""
+    def at(tt):
+        z = dense(tt)
+        z[4], z[5] = d, z[1]
+        return z
+    return at
 
 
 #: the events that are levels of the compression alone (Q, the modes and Dmax fixed)

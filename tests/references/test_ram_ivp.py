@@ -116,6 +116,29 @@ def test_a_held_pipe_breaks_away_just_before_the_cushions_peak():
         math.asin(hold / peak) / omega, rel=1e-9)
 
 
+def test_a_riding_ram_stays_on_a_pipe_still_pressing_after_a_load_change():
+    # fuzz --model ram, seed 777, case 280: after a Zeno sequence of direct impacts the ram
+    # rode on a free pipe pulled back by Q < 0; at a change of Q (still < 0) the reference
+    # found the ram's and the pipe's velocities, integrated apart, one ulp apart and let the
+    # ram fly on through the head (0.30 of the velocities' scale off). By momentum (no
+    # friction, impacts internal), once the impacts have accumulated and while Q < 0 keeps the
+    # pipe pressing on the ram, both move at v = (m v0 + int Q dt) / (M1 + m), the head at
+    # the centre of mass u = (m v0 t + int int Q) / (M1 + m) (the ram starts at the head), and
+    # F_head = Q M1 / (M1 + m) (the ram needs m dv/dt).
+    m, e, v0 = 0.7949965745688757, 0.7180249458185113, 1.6217764534817292
+    q1, q2, t1 = -53751.547950006636, -27397.691117226143, 0.011110330034389661
+    history = [(0.0, "q", q1), (0.0, "strike", v0), (t1, "q", q2)]
+    t = t1 + np.array([1e-4, 1e-3, 1e-2])
+    v = (m * v0 + q1 * t1 + q2 * (t - t1)) / (M1 + m)
+    u = (m * v0 * t + q1 * t1 * (0.5 * t1 + (t - t1)) + 0.5 * q2 * (t - t1) ** 2) / (M1 + m)
+    ram = dict(mass=m, k=0.0, e=e)
+    for out in (simulate_ram(FREE, ram, history, t), _core(FREE, ram, history, list(t))):
+        for name in ("v_pipe", "v_ram"):
+            assert np.abs(out[name] - v).max() <= 1e-12 * np.abs(v).max(), name
+        assert np.abs(out["u_pipe"] - u).max() <= 1e-12 * np.abs(u).max()
+        assert out["F_head"] == pytest.approx(q2 * M1 / (M1 + m), rel=1e-12)
+
+
 def _random_case(rng):
     params = dict(tau1=float(rng.choice([0.0, rng.uniform(0.0, 3e4)])),
                   tau2=float(rng.choice([0.0, rng.uniform(0.0, 2e5)])),

@@ -175,11 +175,24 @@ class RigidExact(ModelBase):
         """Advance to ``t_end`` [s] under a constant struck-end force ``q`` [N] (events are
         times, so only ``t_end`` matters)."""
         code = self._step(self._st, self._par, self._log, q, t_end)
+        rounds = 0
         while code == stepping.LOG_FULL:
-            self._take_log()
+            rounds = self._count_round(rounds, 1)
             code = self._step(self._st, self._par, self._log, q, t_end)
         if code:
             self._raise(code)
+
+    def _count_round(self, rounds: int, steps: int) -> int:
+        """Take the full log (:meth:`_take_log`) and count the call of a solver function that
+        filled it: each filled it with ``_LOG_SIZE`` pieces, so after
+        ``MAX_EVENTS_PER_STEP / _LOG_SIZE`` calls per step (``steps`` steps) the step has too
+        many events (the function's own count restarts with each call, which would let
+        events that keep changing the modes run without end)."""
+        self._take_log()
+        rounds += 1
+        if rounds * _LOG_SIZE > stepping.MAX_EVENTS_PER_STEP * steps:
+            self._raise(stepping.TOO_MANY_EVENTS)
+        return rounds
 
     def _take_log(self) -> None:
         """Move the mode codes the solver logged into :attr:`_modes` (the solver merged
@@ -227,8 +240,9 @@ class RigidExact(ModelBase):
         rows, filled = _rows(names)
         table = np.empty((filled, len(times)))
         code, done = self._sample(self._st, self._par, self._log, loads, times, table, 0)
+        rounds = 0
         while code == stepping.LOG_FULL:
-            self._take_log()
+            rounds = self._count_round(rounds, len(times))
             code, done = self._sample(self._st, self._par, self._log, loads, times, table, done)
         if code:
             self._raise(code)

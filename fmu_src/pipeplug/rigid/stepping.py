@@ -76,7 +76,8 @@ from .stress import axial_extremes
 
 __all__ = ["OK", "TOO_MANY_EVENTS", "SEGMENT_MISSED", "LOAD_NOT_FINITE", "LOG_FULL",
            "MAX_EVENTS_PER_STEP", "step_to", "start_piece", "sample_into", "outputs_at",
-           "at_rest", "log_mode", "mode_of", "mode_code"]
+           "at_rest", "log_mode", "mode_of", "mode_code", "log_full", "record_event", "settle",
+           "pipe_plug_events", "common_velocity"]
 
 #: return codes
 OK, TOO_MANY_EVENTS, SEGMENT_MISSED, LOAD_NOT_FINITE, LOG_FULL = 0, 1, 2, 3, 4
@@ -98,7 +99,7 @@ def step_to(st, par, log, q, t_end):
         st[TIME] = t_end             # the common case: no event inside the step
         return OK
     if q != st[Q]:
-        if _log_full(st, log):
+        if log_full(st, log):
             return LOG_FULL
         _restart(st, par, log, q, t_end)
     for _ in range(MAX_EVENTS_PER_STEP):
@@ -107,7 +108,7 @@ def step_to(st, par, log, q, t_end):
         if t_end < st[T_SNAP]:
             st[TIME] = t_end
             return OK
-        if _log_full(st, log):
+        if log_full(st, log):
             return LOG_FULL
         code = _take_event(st, par, log)
         if code != OK:
@@ -159,7 +160,7 @@ def log_mode(st, log):
 
 
 @jitable
-def _log_full(st, log):
+def log_full(st, log):
     """True when ``log`` is kept and has no room for another piece's modes."""
     return len(log) > 0 and st[LOGGED] >= len(log)
 
@@ -167,8 +168,15 @@ def _log_full(st, log):
 @jitable
 def _search(st, par, horizon):
     """Look for the piece's next event up to ``horizon`` [s] after its origin."""
-    st[HORIZON] = horizon
     dt, labels = find_event(st, par, horizon)
+    record_event(st, horizon, dt, labels)
+
+
+@jitable
+def record_event(st, horizon, dt, labels):
+    """Record the piece's next event, ``dt`` [s] after its origin (``inf``: none), with its
+    ``labels``, found by a search up to ``horizon`` [s] after the origin."""
+    st[HORIZON] = horizon
     t_event = st[T0] + dt
     st[T_EVENT], st[LABELS] = t_event, labels
     # A step ending within round-off of an event takes it: otherwise a grazing stop (velocity
@@ -184,17 +192,7 @@ def _restart(st, par, log, q, t_end):
     events up to ``t_end`` [s]."""
     t = st[TIME]
     u1, v1, u2, v2, w_in, w_outer, w_inner = values_at(st, par, t)
-    if par[P_FACE] != 0.0:
-        st[W_FACE] = face_work_at(st, t - st[T0])
-    s1, s2 = st[S1], st[S2]
-    if s1 != 0 and v1 * s1 < 0.0:     # round-off past a stop that was not reached
-        v1 = 0.0
-    if s2 != 0 and (v1 - v2) * s2 < 0.0:
-        if s1 != 0:
-            v1 = _common_velocity(par, v1, v2)
-        v2 = v1
-    if par[P_QP] > 0.0 and st[S3] != 0 and v2 * st[S3] < 0.0:   # a plug face's stop
-        v2 = 0.0
+    v1, v2 = settle(st, par, par[P_M1], v1, v2)
     start_piece(st, par, log, t, u1, v1, u2, v2, w_in, w_outer, w_inner, q, 0, t_end - t)
 
 
@@ -206,22 +204,7 @@ def _take_event(st, par, log):
     if par[P_FACE] != 0.0:
         st[W_FACE] = face_work_at(st, t - st[T0])
     labels = int(st[LABELS])
-    kick = 0
-    if labels & PIPE_REST:
-        v1 = 0.0
-        if st[S2] == 0:
-            v2 = 0.0
-    stick = (labels & STICK) != 0
-    if (labels & PLUG_REST) != 0 or (stick and (labels & PIPE_REST) != 0):
-        v2 = v1
-    elif stick:
-        v1 = v2 = _common_velocity(par, v1, v2)
-    if labels & PLUG_STOP and not stick:
-        v2 = 0.0
-    if labels & BREAKAWAY_POS:
-        kick = 1
-    if labels & BREAKAWAY_NEG:
-        kick = -1
+    v1, v2, kick = pipe_plug_events(st, par, labels, par[P_M1], v1, v2)
     if labels & SEGMENT:
         end = st[END]
         if not abs(u1 - end) <= _snap_allowance(st, par, t, u1):
@@ -243,8 +226,50 @@ def _take_event(st, par, log):
 
 
 @jitable
-def _common_velocity(par, v1, v2):
-    """The velocity [m/s] of pipe and plug sticking together while the pipe slides.
+def settle(st, par, m1, v1, v2):
+    """``(v1, v2)`` [m/s] of pipe (of mass ``m1`` [kg], with a riding ram the ram's too) and
+    plug where a piece is cut by a new load: a velocity that round-off carried past a stop or
+    a stick the search had not reached is set back onto it."""
+    s1, s2 = st[S1], st[S2]
+    if s1 != 0 and v1 * s1 < 0.0:
+        v1 = 0.0
+    if s2 != 0 and (v1 - v2) * s2 < 0.0:
+        if s1 != 0:
+            v1 = common_velocity(par, m1, v1, v2)
+        v2 = v1
+    if par[P_QP] > 0.0 and st[S3] != 0 and v2 * st[S3] < 0.0:   # a plug face's stop
+        v2 = 0.0
+    return v1, v2
+
+
+@jitable
+def pipe_plug_events(st, par, labels, m1, v1, v2):
+    """``(v1, v2, kick)``: the velocities [m/s] of pipe (of mass ``m1`` [kg]) and plug set by
+    the pipe's and the plug's events among ``labels`` (a stop, a stick), and the kick (-1, 0,
+    1) of a plug breaking away."""
+    kick = 0
+    if labels & PIPE_REST:
+        v1 = 0.0
+        if st[S2] == 0:
+            v2 = 0.0
+    stick = (labels & STICK) != 0
+    if (labels & PLUG_REST) != 0 or (stick and (labels & PIPE_REST) != 0):
+        v2 = v1
+    elif stick:
+        v1 = v2 = common_velocity(par, m1, v1, v2)
+    if labels & PLUG_STOP and not stick:
+        v2 = 0.0
+    if labels & BREAKAWAY_POS:
+        kick = 1
+    if labels & BREAKAWAY_NEG:
+        kick = -1
+    return v1, v2, kick
+
+
+@jitable
+def common_velocity(par, m1, v1, v2):
+    """The velocity [m/s] of pipe (of mass ``m1`` [kg]) and plug sticking together while the
+    pipe slides.
 
     The stick time is a root to round-off, where the relative velocity is a round-off ``d``
     (the pipe's deceleration times a few ulps of time). Momentum is conserved: the plug's
@@ -253,7 +278,7 @@ def _common_velocity(par, v1, v2):
     the pipe's velocity instead would change it by M2 V2 d, which a heavy plug and a
     hard-braking pipe make visible in the energy balance (4e-12 of the work at M2 = 127 M1).
     """
-    m1, m2 = par[P_M1], par[P_M2]
+    m2 = par[P_M2]
     return (m1 * v1 + m2 * v2) / (m1 + m2)
 
 
@@ -358,7 +383,7 @@ def _sample_run(st, par, log, q, times, lo, hi, table):
     the code and the first sample not written."""
     t_last = float(times[hi - 1])
     if q != st[Q]:
-        if _log_full(st, log):
+        if log_full(st, log):
             return LOG_FULL, lo
         _restart(st, par, log, q, t_last)
     done = lo
@@ -372,7 +397,7 @@ def _sample_run(st, par, log, q, times, lo, hi, table):
         if done == hi:
             st[TIME] = t_last
             return OK, hi
-        if _log_full(st, log):
+        if log_full(st, log):
             return LOG_FULL, done
         code = _take_event(st, par, log)
         if code != OK:
