@@ -59,6 +59,7 @@ from .pieces import (
     BOTH_SLIDE,
     PIPE_REST,
     PLUG_SLIDES,
+    PLUG_STOP,
     STICK,
     TOGETHER,
     contact_modes,
@@ -135,7 +136,8 @@ NONE, FREE, LOADING, UNLOADING, RIDING, ZENO = 0.0, 1.0, 2.0, 3.0, 4.0, 5.0
 #: the cushion (or the head), the pipe starting to slide forward or backward under the
 #: cushion's force, the accumulation point of a Zeno sequence
 LOAD_END, SEPARATE, RELOAD, CONTACT, PIPE_GO_POS, PIPE_GO_NEG, ACCUMULATE = (
-    64, 128, 256, 512, 1024, 2048, 4096)
+    PLUG_STOP << 1, PLUG_STOP << 2, PLUG_STOP << 3, PLUG_STOP << 4, PLUG_STOP << 5,
+    PLUG_STOP << 6, PLUG_STOP << 7)
 #: a direct impact closing at most this share of the fastest since the strike is plastic
 PLASTIC = 2.0 ** -40
 #: a direct impact closing slower than the pipe's deceleration times this many ulps of the

@@ -192,6 +192,8 @@ def _restart(st, par, log, q, t_end):
     events up to ``t_end`` [s]."""
     t = st[TIME]
     u1, v1, u2, v2, w_in, w_outer, w_inner = values_at(st, par, t)
+    if par[P_FACE] != 0.0:
+        st[W_FACE] = face_work_at(st, t - st[T0])
     v1, v2 = settle(st, par, par[P_M1], v1, v2)
     start_piece(st, par, log, t, u1, v1, u2, v2, w_in, w_outer, w_inner, q, 0, t_end - t)
 
