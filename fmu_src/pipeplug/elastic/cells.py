@@ -41,7 +41,8 @@ from ..contact import coulomb
 from ..jit import jitable
 
 __all__ = ["free_cells", "soil_cells", "plug_cells", "plug_soil_cells", "sums", "limit", "drift",
-           "node_extremes", "extremes", "node_forces",
+           "drift_extremes", "node_extremes", "extremes",
+           "node_forces",
            "track", "soil_start", "soil_weight", "moving_end", "next_end", "share", "window",
            "joint_share", "accumulate", "SCRATCH_ROWS"]
 
@@ -306,6 +307,28 @@ def drift(v, N, b, end):
     Only the faces of the cells before ``end`` (the faces beyond lie between cells at rest)."""
     for f in range(1, min(end + 1, v.shape[0])):
         N[f] += b * (v[f] - v[f - 1])
+
+
+@jitable
+def drift_extremes(v, N, b, end, low, high):
+    """:func:`drift`, and the smallest and largest of ``low``, ``high`` and the node-centred
+    forces [N] (:func:`node_forces`) of the cells ``1..min(end, n-1)`` (``n`` cells), those
+    of the cells from 1 on whose faces drifted; cell 0's waits for the head force of the next
+    step (:func:`node_extremes`), and the cells beyond keep theirs, which the caller counted."""
+    last = min(end + 1, v.shape[0])
+    if last < 2:
+        return low, high
+    behind = N[1] + b * (v[1] - v[0])
+    N[1] = behind
+    for f in range(2, last):
+        ahead = N[f] + b * (v[f] - v[f - 1])
+        N[f] = ahead
+        mean = 0.5 * (behind + ahead)
+        low = min(low, mean)
+        high = max(high, mean)
+        behind = ahead
+    mean = 0.5 * (behind + N[last])        # the cell whose far face did not drift
+    return min(low, mean), max(high, mean)
 
 
 @jitable

@@ -36,6 +36,7 @@ from .cells import (
     SCRATCH_ROWS,
     accumulate,
     drift,
+    drift_extremes,
     extremes,
     free_cells,
     limit,
@@ -94,14 +95,13 @@ def _finish_step(q, dt, v_first_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u
     cushion (one branch per step, none per cell); then count the pipe's node-centred forces
     that changed (the head's and those of the cells up to ``end``) in the extremes."""
     _add_work(acc, W_IN, 0.5 * q * dt * (v_first_old + v1[0]))
-    drift(v1, N1, coef[K1] * dt, end)
+    acc[N_MIN], acc[N_MAX] = drift_extremes(v1, N1, coef[K1] * dt, end, acc[N_MIN], acc[N_MAX])
     drift(v2, N2, coef[K2] * dt, end - (v1.shape[0] - v2.shape[0]))
     track(u1, cells1, v1, dt)
     track(u2, cells2, v2, dt)
     if coef[RAM_MASS] > 0.0:
         finish_ram(q, dt, v_first_old, v1[0], N1, coef, acc)
-    acc[N_MIN], acc[N_MAX] = node_extremes(N1, min(end + 1, v1.shape[0]), acc[N_MIN],
-                                           acc[N_MAX])
+    acc[N_MIN], acc[N_MAX] = node_extremes(N1, 1, acc[N_MIN], acc[N_MAX])
 
 
 @jitable

@@ -12,10 +12,13 @@ displacement. Pipe and plug couple at equal reference coordinate.
 
 Scheme: velocity-force staggered grid in space and time. Velocities live at cell centres,
 axial forces at cell faces; the end faces carry the boundary forces exactly (``-Q`` and 0).
-Masses are the full cells. Velocities take a kick from the force differences, then the exact
+Masses are the full cells. The stresses reported are node-centred (the head's force, the mean of
+each cell's two faces, 0 at the far end: :func:`pipeplug.elastic.cells.node_forces` says why).
+Velocities take a kick from the force differences, then the exact
 two-contact Coulomb projection node by node (:mod:`pipeplug.contact.coulomb`); the forces then
 drift with the new velocities (:mod:`pipeplug.elastic.cells`). At Courant number 1 this
-transports the rod's waves exactly (d'Alembert) with no odd-even decoupling: node-centred
+transports the rod's waves exactly (d'Alembert) with no odd-even decoupling (friction excites
+one in the faces and cells, which the node-centred stresses do not carry): node-centred
 velocities with half masses at the ends alternate between 0 and twice the wave velocity at the
 struck end (docs/corrections.md D6).
 
