@@ -35,11 +35,14 @@ once, and the sums are those of a single loop bit for bit.
 """
 from __future__ import annotations
 
+import numpy as np
+
 from ..contact import coulomb
 from ..jit import jitable
 
 __all__ = ["free_cells", "soil_cells", "plug_cells", "plug_soil_cells", "sums", "limit", "drift",
-           "drift_extremes", "extremes",
+           "drift_extremes", "node_extremes", "extremes",
+           "node_forces",
            "track", "soil_start", "soil_weight", "moving_end", "next_end", "share", "window",
            "joint_share", "accumulate", "SCRATCH_ROWS"]
 
@@ -308,11 +311,34 @@ def drift(v, N, b, end):
 
 @jitable
 def drift_extremes(v, N, b, end, low, high):
-    """:func:`drift`, and the smallest and largest of ``low``, ``high`` and the new forces
-    [N] (the faces beyond ``end`` keep theirs, which the caller has counted)."""
-    for f in range(1, min(end + 1, v.shape[0])):
-        value = N[f] + b * (v[f] - v[f - 1])
-        N[f] = value
+    """:func:`drift`, and the smallest and largest of ``low``, ``high`` and the node-centred
+    forces [N] (:func:`node_forces`) of the cells ``1..min(end, n-1)`` (``n`` cells), those
+    of the cells from 1 on whose faces drifted; cell 0's waits for the head force of the next
+    step (:func:`node_extremes`), and the cells beyond keep theirs, which the caller counted."""
+    last = min(end + 1, v.shape[0])
+    if last < 2:
+        return low, high
+    behind = N[1] + b * (v[1] - v[0])
+    N[1] = behind
+    for f in range(2, last):
+        ahead = N[f] + b * (v[f] - v[f - 1])
+        N[f] = ahead
+        mean = 0.5 * (behind + ahead)
+        low = min(low, mean)
+        high = max(high, mean)
+        behind = ahead
+    mean = 0.5 * (behind + N[last])        # the cell whose far face did not drift
+    return min(low, mean), max(high, mean)
+
+
+@jitable
+def node_extremes(N, cells, low, high):
+    """The smallest and largest of ``low``, ``high`` and the node-centred forces [N] of the
+    head face ``N[0]`` and of the cells ``0..cells-1`` (:func:`node_forces`)."""
+    low = min(low, N[0])
+    high = max(high, N[0])
+    for j in range(cells):
+        value = 0.5 * (N[j] + N[j + 1])
         low = min(low, value)
         high = max(high, value)
     return low, high
@@ -320,11 +346,27 @@ def drift_extremes(v, N, b, end, low, high):
 
 @jitable
 def extremes(N, low, high):
-    """The smallest and largest of ``low``, ``high`` and the forces ``N`` [N]."""
-    for f in range(N.shape[0]):
-        low = min(low, N[f])
-        high = max(high, N[f])
-    return low, high
+    """The smallest and largest of ``low``, ``high`` and every node-centred force of a rod
+    [N] (:func:`node_forces`)."""
+    low, high = node_extremes(N, N.shape[0] - 1, low, high)
+    return min(low, N[-1]), max(high, N[-1])
+
+
+def node_forces(N):
+    """The axial forces [N] a rod reports, at its nodes: the head face's at x = 0, the mean of
+    the two faces of cell ``j`` at its centre x = (j + 1/2) dx, the far face's at x = L.
+
+    Why not the faces themselves: at Courant 1 the scheme carries the two characteristic
+    invariants ``P_j = N[j] - Z v[j]`` and ``Q_j = N[j+1] + Z v[j]`` (Z the impedance) exactly
+    from cell to cell, friction impulses included, and they alone fix the mean of a cell's
+    faces, ``(N[j] + N[j+1]) / 2 = (P_j + Q_j) / 2``. A face itself follows from the chain
+    ``N[j+1] = P_j + Q_j - N[j]`` from the head, which sums the invariants' O(dx) errors (a
+    cell starting to slide takes a whole step's friction where the front crosses it halfway;
+    their sign alternates from cell to cell) into an odd-even pattern of O(f x), f the
+    friction per metre, that does not shrink with dx (docs/elastic.md, root cause 8). The
+    velocities of the cells carry the same pattern; the mean of two neighbours does not.
+    """
+    return np.concatenate((N[:1], 0.5 * (N[:-1] + N[1:]), N[-1:]))
 
 
 @jitable

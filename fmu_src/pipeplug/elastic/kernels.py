@@ -42,6 +42,7 @@ from .cells import (
     limit,
     moving_end,
     next_end,
+    node_extremes,
     plug_cells,
     plug_soil_cells,
     soil_cells,
@@ -71,7 +72,8 @@ LIMITED = 8
 # With a ram (coef[RAM_MASS] > 0): the work done on the cushion [J] and its rounding error; the
 # ram's state from RAM (pipeplug.elastic.head.ram_step: velocity, compression, largest
 # compression, force, transferred work and its error). Every model: the smallest and largest
-# axial force [N] of the pipe's faces during the current communication step.
+# node-centred axial force [N] of the pipe (pipeplug.elastic.cells.node_forces) during the
+# current communication step.
 W_CUSHION, W_CUSHION_ERROR = 9, 10
 RAM = 11
 N_MIN, N_MAX = 17, 18
@@ -84,7 +86,8 @@ N_ACC = 22
 def start_step(q, N1, coef, acc):
     """The head force of a call's first step, ``-(q + F)`` with the cushion's force ``F`` (0
     without a ram), written ``0 - ...`` for +0.0 under no load, as a fresh model holds it;
-    and the pipe's axial forces now counted in the extremes of the communication step."""
+    and the pipe's node-centred axial forces now counted in the extremes of the communication
+    step."""
     N1[0] = 0.0 - (q + acc[RAM + 3]) if coef[RAM_MASS] > 0.0 else 0.0 - q
     acc[N_MIN], acc[N_MAX] = extremes(N1, acc[N_MIN], acc[N_MAX])
 
@@ -92,8 +95,9 @@ def start_step(q, N1, coef, acc):
 @jitable
 def _finish_step(q, dt, v_first_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc, end):
     """Add the input work of the step [J]; then drift the forces of the pipe cells before
-    ``end`` (keeping their extremes) and of the plug cells coupled to them, the
-    displacements, and the ram with its cushion (one branch per step, none per cell)."""
+    ``end`` and of the plug cells coupled to them, the displacements, and the ram with its
+    cushion (one branch per step, none per cell); then count the pipe's node-centred forces
+    that changed (the head's and those of the cells up to ``end``) in the extremes."""
     _add_work(acc, W_IN, 0.5 * q * dt * (v_first_old + v1[0]))
     acc[N_MIN], acc[N_MAX] = drift_extremes(v1, N1, coef[K1] * dt, end, acc[N_MIN], acc[N_MAX])
     drift(v2, N2, coef[K2] * dt, end - (v1.shape[0] - v2.shape[0]))
@@ -101,18 +105,17 @@ def _finish_step(q, dt, v_first_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u
     track(u2, cells2, v2, dt)
     if coef[RAM_MASS] > 0.0:
         finish_ram(q, dt, v_first_old, v1[0], N1, coef, acc)
+    acc[N_MIN], acc[N_MAX] = node_extremes(N1, 1, acc[N_MIN], acc[N_MAX])
 
 
 @jitable
 def finish_ram(q, dt, v_head_old, v_head, N1, coef, acc):
     """The ram and its cushion after the pipe's step (:func:`pipeplug.elastic.head.ram_step`;
     the head cell's velocity went from ``v_head_old`` to ``v_head`` [m/s]): the head force of
-    the next step, counted in the extremes."""
+    the next step."""
     head = ram_step(q, dt, v_head_old, v_head, coef[RAM_MASS], coef[K_LOAD],
                     coef[K_UNLOAD], acc[RAM:RAM + 6], acc, W_CUSHION, W_CUSHION_ERROR)
     N1[0] = 0.0 - head
-    acc[N_MIN] = min(acc[N_MIN], N1[0])
-    acc[N_MAX] = max(acc[N_MAX], N1[0])
 
 
 @jitable

@@ -12,10 +12,13 @@ displacement. Pipe and plug couple at equal reference coordinate.
 
 Scheme: velocity-force staggered grid in space and time. Velocities live at cell centres,
 axial forces at cell faces; the end faces carry the boundary forces exactly (``-Q`` and 0).
-Masses are the full cells. Velocities take a kick from the force differences, then the exact
+Masses are the full cells. The stresses reported are node-centred (the head's force, the mean of
+each cell's two faces, 0 at the far end: :func:`pipeplug.elastic.cells.node_forces` says why).
+Velocities take a kick from the force differences, then the exact
 two-contact Coulomb projection node by node (:mod:`pipeplug.contact.coulomb`); the forces then
 drift with the new velocities (:mod:`pipeplug.elastic.cells`). At Courant number 1 this
-transports the rod's waves exactly (d'Alembert) with no odd-even decoupling: node-centred
+transports the rod's waves exactly (d'Alembert) with no odd-even decoupling (friction excites
+one in the faces and cells, which the node-centred stresses do not carry): node-centred
 velocities with half masses at the ends alternate between 0 and twice the wave velocity at the
 struck end (docs/corrections.md D6).
 
@@ -56,6 +59,7 @@ import numpy as np
 from .. import jit
 from ..interface import ModelBase, Outputs, profile_sections
 from ..params import ParameterError
+from .cells import node_forces
 from .grid import Section, build_grid
 from .head import cushion_energy, start_strike
 from .kernels import (
@@ -238,7 +242,8 @@ class ElasticModel(ModelBase):
         """``n`` internal steps at rest: the forces hold; a ram leaving the head flies on
         (its compression shrinks at its velocity, which nothing changes)."""
         acc = self.acc
-        acc[N_MIN], acc[N_MAX] = float(self.N1.min()), float(self.N1.max())
+        nodes = node_forces(self.N1)
+        acc[N_MIN], acc[N_MAX] = float(nodes.min()), float(nodes.max())
         if acc[RAM]:
             acc[RAM + 1] = _fly(acc[RAM + 1], self.clock.h * (acc[RAM] - self.v1[0]), n)
 
@@ -423,19 +428,17 @@ def _work(acc, index) -> float:
 
 def _profiles(model: ElasticModel) -> tuple:
     """The profiles (:data:`pipeplug.interface.PROFILES`) of ``model``: each element as
-    :meth:`ElasticModel.outputs` computes the output at its section; the stress between the
-    faces around the section, linearly."""
+    :meth:`ElasticModel.outputs` computes the output at its section; the stress linearly
+    between the pipe's node-centred forces (:func:`pipeplug.elastic.cells.node_forces`: the
+    head's at x = 0, each cell's at its centre, the far end's at x = L1)."""
     g, u1 = model.grid, model.u1
     v = np.array([_interpolate(model.v1, s) for s in g.profile])
     u = np.array([(1.0 - s.w) * u1[3 + 2 * k] + s.w * u1[4 + 2 * k]
                   for k, s in enumerate(g.profile)])
-    dx, n1, N1 = g.coef[DX], g.n1, model.N1
-    stress = np.empty(len(g.profile))
-    for k, x in enumerate(profile_sections(model.params.L1, model.params.L2,
-                                           len(g.profile))[0]):
-        j = min(int(x / dx), n1 - 1)
-        w = x / dx - j
-        stress[k] = ((1.0 - w) * N1[j] + w * N1[j + 1]) / model.params.S1
+    dx, n1 = g.coef[DX], g.n1
+    nodes = np.concatenate(([0.0], (np.arange(n1) + 0.5) * dx, [n1 * dx]))
+    x = profile_sections(model.params.L1, model.params.L2, len(g.profile))[0]
+    stress = np.interp(x, nodes, node_forces(model.N1)) / model.params.S1
     plug = (np.array([_interpolate(model.v2, s) for s in g.profile_plug]) if g.n2
             else np.zeros(len(g.profile)))
     return v, u, stress, plug

@@ -252,12 +252,13 @@ def _loop(variant):
             accumulate(acc, W_IN, W_IN + COMPENSATION, half_impulse * (v_first + v1[0]))
             for rod in rods:
                 rod.drift()
-            inner = N1[1:-1]
-            if inner.size:
-                acc[N_MIN] = min(acc[N_MIN], inner.min())
-                acc[N_MAX] = max(acc[N_MAX], inner.max())
             if ram:
                 finish_ram(q, dt, v_first, v1[0], N1, coef, acc)
+            # the node-centred forces (cells.node_forces) of the head and of every cell (the
+            # loops take those that changed: the extremes are the same)
+            means = 0.5 * (N1[:-1] + N1[1:])
+            acc[N_MIN] = min(acc[N_MIN], N1[0], means.min())
+            acc[N_MAX] = max(acc[N_MAX], N1[0], means.max())
         if friction:
             acc[F_OUT] = _sum_of_totals(part.f1 for part in parts) / dt
             acc[F_IN] = _sum_of_totals(part.f2 for part in parts) / dt

@@ -6,10 +6,9 @@ The scene: the package defaults with ``elastic = True`` and a blow Q0 = 23 kN he
 = 5000 m/s). Left, without friction (tau1 = tau2 = 0): the compressive wave of -Q0/S1 enters at
 the head, runs to the free far end and comes back as tension, drawn over d'Alembert's solution
 of the free rod (:func:`free_rod_stress`, from the parameters alone). Right, with soil friction
-tau1 = 2e4 Pa and the plug's tau2 = 1e4 Pa: the waves lose height as they run. There the
-sections alternate between two levels: at Courant 1 (the default) the scheme's grid splits into
-two sublattices that friction does not load alike (every other section reads the frictionless
--Q0/S1 inside the pulse); 51 sections, every other grid point, give a smooth profile.
+tau1 = 2e4 Pa and the plug's tau2 = 1e4 Pa: the waves lose height as they run. The stresses
+are node-centred (docs/elastic.md, root cause 8: the faces themselves alternate between two
+levels under friction at Courant 1).
 """
 from __future__ import annotations
 
