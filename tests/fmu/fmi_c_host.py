@@ -12,6 +12,7 @@ import os
 import subprocess
 import sys
 import threading
+from collections import deque
 from pathlib import Path
 from queue import Empty, Queue
 
@@ -82,12 +83,27 @@ class CHost:
                                      stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                                      env=env)
         self._lines: Queue = Queue()
+        self._stderr: deque = deque(maxlen=64)
         threading.Thread(target=self._read, daemon=True).start()
+        # stderr read as it comes: a host that many commands go through (shared by tests)
+        # must never block on a full pipe
+        self._stderr_reader = threading.Thread(target=self._read_stderr, daemon=True)
+        self._stderr_reader.start()
 
     def _read(self) -> None:
         for line in self.proc.stdout:
             self._lines.put(line)
         self._lines.put(None)
+
+    def _read_stderr(self) -> None:
+        for line in self.proc.stderr:
+            self._stderr.append(line)
+
+    @property
+    def stderr_tail(self) -> str:
+        """The last 3000 characters the host wrote to stderr (all of it, once it ended)."""
+        self._stderr_reader.join(timeout=10 if self.proc.poll() is not None else 0)
+        return "".join(self._stderr)[-3000:]
 
     def alive(self) -> bool:
         return self.proc.poll() is None
@@ -119,7 +135,7 @@ class CHost:
             except subprocess.TimeoutExpired:
                 code = "none (hung)"
             raise HostDied(f"the C host died during {words[:3]}: exit code {code}\n"
-                           f"{self.proc.stderr.read()[-3000:] if code != 'none (hung)' else ''}"
+                           f"{self.stderr_tail if code != 'none (hung)' else ''}"
                            ) from exc
 
     def close(self) -> int:
@@ -129,8 +145,13 @@ class CHost:
             self.proc.stdin.flush()
         code = self.proc.wait(timeout=60)
         self.proc.stdout.close()
-        self.proc.stderr.close()
         return code
+
+    def kill(self) -> None:
+        """End the host at once."""
+        self.proc.kill()
+        self.proc.wait(timeout=60)
+        self.proc.stdout.close()
 
 
 def value_of(answer: dict):

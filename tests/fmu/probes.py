@@ -125,6 +125,39 @@ class Session:
         return self.host.close()
 
 
+class Hosts:
+    """Host processes shared by probes: one :class:`Session` per (host, logging), made when
+    first asked for and again after it was dropped (a probe that failed, or a host that died,
+    takes its process with it: the next probe gets a fresh one).
+    """
+
+    def __init__(self, fmu_dir: Path, hammer_dir: Path, c_host: Path):
+        self._args = fmu_dir, hammer_dir, c_host
+        self._open: dict[tuple, Session] = {}
+
+    def session(self, host: str, logging: bool) -> Session:
+        key = (host, logging)
+        if key not in self._open or not self._open[key].host.alive():
+            self.drop(host, logging)
+            self._open[key] = Session(host, logging, *self._args)
+        return self._open[key]
+
+    def drop(self, host: str, logging: bool) -> None:
+        """End the shared process of (host, logging), if any, without asking it to quit."""
+        session = self._open.pop((host, logging), None)
+        if session is not None:
+            session.host.kill()
+
+    def close(self) -> dict:
+        """Quit every shared process: (host, logging) -> (exit code, the end of its stderr)."""
+        codes = {}
+        while self._open:
+            key, session = self._open.popitem()
+            code = session.close()
+            codes[key] = (code, session.host.stderr_tail)
+        return codes
+
+
 @dataclass(frozen=True)
 class Expected:
     """What the contract says of a probe: the status of its call ("null": fmi2Instantiate

@@ -1,7 +1,14 @@
-"""PipePlug.fmu under the calls hosts really make (``probes.py``): each probe in a host process
-of its own, so that a crash is a failure, in the plain C host (``fmi_host.c``, no Python until
-the FMU brings one) and through FMPy's low-level API (``fmpy_host.py``), with debug logging on
-and off.
+"""PipePlug.fmu under the calls hosts really make (``probes.py``), in the plain C host
+(``fmi_host.c``, no Python until the FMU brings one) and through FMPy's low-level API
+(``fmpy_host.py``), with debug logging on and off.
+
+The probes of one host and logging share a host process (:class:`~probes.Hosts`: starting a
+host and the FMU's Python costs more than a probe). A crash is a failure all the same: the
+probe running fails, and the next one gets a fresh process, as does the next probe after any
+failure. Each shared process must exit cleanly at the end of the module. A probe of
+fmi2Instantiate (the first instantiation of a process is where the C host's FMU finds its
+Python) and a probe with an environment of its own run in a process of their own, which must
+exit cleanly after it.
 
 Checked for every probe: the refused call's status (fmi2Error, fmi2Discard, or NULL from
 fmi2Instantiate); exactly one log line, with the category of its status, naming the variable
@@ -20,7 +27,7 @@ from pathlib import Path
 
 import pytest
 from fmi_c_host import hexed
-from probes import DISCARD, ERROR, PROBES, Session
+from probes import DISCARD, ERROR, PROBES, Hosts, Session
 
 HERE = Path(__file__).resolve().parent
 CATEGORY = {ERROR: "logStatusError", DISCARD: "logStatusDiscard"}
@@ -41,16 +48,38 @@ def _environment(variables: dict, folder) -> dict:
     return env
 
 
+@pytest.fixture(scope="module")
+def hosts(fmu_dir, hammer_dir, c_host):
+    """The shared host processes of this module; each must exit cleanly at its end."""
+    shared = Hosts(fmu_dir, hammer_dir, c_host)
+    yield shared
+    for (host, logging), (code, stderr) in shared.close().items():
+        assert code == 0, f"the shared {host} host (logging {logging}) exited {code}\n{stderr}"
+
+
 @pytest.mark.parametrize("name, host, logging", CASES,
                          ids=[f"{n}/{h}/logging-{'on' if g else 'off'}" for n, h, g in CASES])
 def test_probe_is_refused_with_one_line_and_the_host_goes_on(name, host, logging, fmu_dir,
-                                                            hammer_dir, c_host, tmp_path):
+                                                            hammer_dir, c_host, hosts, tmp_path):
     probe, expected = PROBES[name]
     if not expected.enabled:
         pytest.skip("runs once the core refuses a step of too many internal steps "
                     "(max_internal_steps)")
-    session = Session(host, logging, fmu_dir, hammer_dir, c_host,
-                      _environment(expected.env, tmp_path))
+    if expected.env or expected.status == "null":          # a process of its own
+        session = Session(host, logging, fmu_dir, hammer_dir, c_host,
+                          _environment(expected.env, tmp_path))
+        _check(session, probe, expected)
+        assert session.close() == 0
+        return
+    try:
+        _check(hosts.session(host, logging), probe, expected)
+    except BaseException:
+        hosts.drop(host, logging)                           # the next probe gets a fresh one
+        raise
+
+
+def _check(session: Session, probe, expected) -> None:
+    """Run the probe in ``session``; check its answer, what follows, another instance."""
     answer, ident = probe(session)
     refused_with = ERROR if expected.status == "null" else expected.status
     if expected.status == "null":
@@ -69,7 +98,6 @@ def test_probe_is_refused_with_one_line_and_the_host_goes_on(name, host, logging
     else:
         _instantiates_again(session)
     _another_instance_runs(session)
-    assert session.close() == 0
 
 
 def _refuses_until_reset(s: Session, ident) -> None:
