@@ -50,3 +50,67 @@ def hammer_dir(hammer_file, tmp_path_factory) -> Path:
 def fmi3_files(fmu_file) -> dict:
     """The FMI 3.0 PipePlug.fmu and Hammer.fmu of the same build (``fmi3/`` beside it)."""
     return {name: fmu_file.parent / "fmi3" / f"{name}.fmu" for name in ("PipePlug", "Hammer")}
+
+
+# The order of the suite --------------------------------------------------------------------------
+#: Tests that take long, by node id or its start (a test function: each of its cases): CPU seconds
+#: per test (the test process and its children), measured on a 2-core machine. Only the order
+#: matters; refresh when tests are added or become slower (``python dev.py test --durations=60``
+#: shows the longest).
+EXPENSIVE = {
+    "tests/harness/fuzz/test_fuzz_runs.py::test_fuzz_finds_no_failure": 50,
+    "tests/harness/fuzz/test_fuzz_elastic.py::test_fuzz_finds_no_failure": 40,
+    "tests/fmu/test_wheel.py": 38,
+    "tests/fmu/test_fmi_sequences.py::test_random_fmi_call_sequences": 29,
+    "tests/fmu/test_fmi_sequences.py::test_random_fmi_call_sequences_in_a_c_host": 8,
+    "tests/harness/fuzz/test_fuzz_elastic.py::test_the_fuzz_finds": 11,
+    "tests/harness/fuzz/test_fuzz_ram.py::test_fuzz_finds_no_failure": 12,
+    "tests/fmu/test_fmu_exit_guard.py": 12,
+    "tests/core/hardcases/test_properties.py::test_outputs_stay_finite": 10,
+    "tests/harness/stability/test_stability_cmd.py": 10,
+    "tests/fmu/test_fmu_ram.py::test_a_direct_strike_on_a_long_elastic_rod": 9,
+    "tests/harness/validate/test_validate_and_figures.py::test_figures_draws_pngs": 8,
+    "tests/core/elastic/test_jit_cache.py": 7,
+    "tests/harness/sweep/test_sweep_dask.py": 4,
+    "tests/fmu/test_one_process.py": 4,
+    "tests/fmu/test_fmi3.py": 5,
+    "tests/harness/system/test_system.py": 1,
+    "tests/fmu/test_fmu_probes.py": 0.15,
+}
+
+
+def _cost(item) -> float:
+    """The seconds :data:`EXPENSIVE` gives ``item`` (the longest matching start), else 0."""
+    starts = [start for start in EXPENSIVE if item.nodeid.startswith(start)]
+    return EXPENSIVE[max(starts, key=len)] if starts else 0.0
+
+
+def _shares_module_fixtures(item) -> bool:
+    """Whether ``item`` uses a fixture set up once per module (or class)."""
+    info = getattr(item, "_fixtureinfo", None)
+    return info is not None and any(
+        defs and defs[-1].scope in ("module", "class")
+        for defs in info.name2fixturedefs.values())
+
+
+@pytest.hookimpl(tryfirst=True)      # before pytest-xdist reads the xdist_group marks
+def pytest_collection_modifyitems(config, items):
+    """The longest work first, so that with ``--dist loadgroup`` (pyproject.toml) no long test
+    starts late on one worker while the other one is idle.
+
+    A module whose tests share a module-scoped fixture is one unit of work (an ``xdist_group``:
+    one worker sets the fixture up once); any other test is a unit of its own. Units run in
+    decreasing order of their :data:`EXPENSIVE` seconds; units of equal cost (all the cheap ones)
+    keep their order, and so do the tests within a unit.
+    """
+    units: dict[str, list] = {}
+    for item in items:
+        module = item.nodeid.split("::")[0]
+        if _shares_module_fixtures(item):
+            item.add_marker(pytest.mark.xdist_group(module))
+            units.setdefault(module, []).append(item)
+        else:
+            units.setdefault(item.nodeid, []).append(item)
+    ordered = sorted(units.values(), key=lambda unit: -sum(map(_cost, unit)))
+    items[:] = [item for unit in ordered for item in unit]
+
