@@ -2,24 +2,35 @@
 the project's own build command (``build_fmu.py``, in a subprocess, as a user runs it)."""
 from __future__ import annotations
 
+import os
+import shutil
 import subprocess
 import sys
+import tempfile
 import zipfile
 from pathlib import Path
 
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
+#: the build made once for a run on several workers (:func:`pytest_sessionstart`)
+SHARED_BUILD = "PIPEPLUG_TESTS_BUILD"
+
+
+def _build(dest: Path) -> Path:
+    subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), "--dest", str(dest)],
+                   check=True, capture_output=True, cwd=str(dest.parent))
+    return dest
 
 
 @pytest.fixture(scope="session")
 def fmu_file(tmp_path_factory) -> Path:
     """PipePlug.fmu of ``build_fmu.py`` run once, into a temporary directory (the build's other
-    files beside it)."""
-    dest = tmp_path_factory.mktemp("fmu") / "PipePlug.fmu"
-    subprocess.run([sys.executable, str(ROOT / "build_fmu.py"), "--dest", str(dest)],
-                   check=True, capture_output=True, cwd=str(dest.parent))
-    return dest
+    files beside it): the run's shared build when there is one, else this process's own."""
+    shared = os.environ.get(SHARED_BUILD)
+    if shared:
+        return Path(shared)
+    return _build(tmp_path_factory.mktemp("fmu") / "PipePlug.fmu")
 
 
 @pytest.fixture(scope="session")
@@ -114,3 +125,32 @@ def pytest_collection_modifyitems(config, items):
     ordered = sorted(units.values(), key=lambda unit: -sum(map(_cost, unit)))
     items[:] = [item for unit in ordered for item in unit]
 
+
+# One build and compiled kernels for all workers -------------------------------------------------
+def pytest_sessionstart(session):
+    """On several workers (``-n``): build the FMUs once for all of them, and compile the kernels
+    of the core and of the FMU's copy of it into the on-disk cache (``warm_kernels.py``, the two
+    at once) before the workers start, so that no two processes compile the same kernel. Only
+    a speed-up: if it fails, each worker builds and compiles as it would alone."""
+    config = session.config
+    if (hasattr(config, "workerinput") or not getattr(config.option, "numprocesses", None)
+            or config.option.collectonly):
+        return
+    folder = Path(tempfile.mkdtemp(prefix="pipeplug-tests-"))
+    config.add_cleanup(lambda: shutil.rmtree(folder, ignore_errors=True))
+    try:
+        (folder / "build").mkdir()
+        fmu = _build(folder / "build" / "PipePlug.fmu")
+        unpacked = folder / "unpacked"
+        with zipfile.ZipFile(fmu) as zf:
+            zf.extractall(unpacked)
+    except (OSError, subprocess.CalledProcessError, zipfile.BadZipFile):
+        return
+    os.environ[SHARED_BUILD] = str(fmu)            # the workers inherit it
+    script = str(Path(__file__).with_name("warm_kernels.py"))
+    copies = [["pipeplug"]] + [[f"{core.parent.name}.pipeplug", str(core.parent.parent)]
+                               for core in (unpacked / "resources").glob("*/pipeplug")]
+    warming = [subprocess.Popen([sys.executable, script, *copy], stdout=subprocess.DEVNULL,
+                                stderr=subprocess.DEVNULL) for copy in copies]
+    for process in warming:
+        process.wait()
