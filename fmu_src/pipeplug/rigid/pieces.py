@@ -72,7 +72,7 @@ from .record import (
 __all__ = ["AT_REST", "PLUG_SLIDES", "TOGETHER", "BOTH_SLIDE", "PIPE_REST", "PLUG_REST", "STICK",
            "SEGMENT", "BREAKAWAY_POS", "BREAKAWAY_NEG", "PLUG_STOP", "make_piece", "contact_modes", "kinematics",
            "forces_of",
-           "friction_work_of", "find_event", "pipe_of", "plug_of", "law_of"]
+           "friction_work_of", "slip_of", "find_event", "pipe_of", "plug_of", "law_of"]
 
 _INF = math.inf
 
@@ -217,9 +217,26 @@ def forces_of(st, par, u1):
 
 
 @jitable
-def friction_work_of(st, par, d1, d2):
+def slip_of(st, dt, d1, d2):
+    """The pipe's displacement relative to the plug [m] at ``dt`` [s] into the current piece,
+    ``d1``, ``d2`` [m] being the two displacements there.
+
+    When both move uniformly it is the relative motion's own closed form, not the difference
+    of the two: a plug sliding at its limit with a relative velocity and acceleration of
+    round-off size (a breakaway whose forces balance to the last digit) has a difference of
+    two displacements that wanders by their round-off, of either sign, from sample to sample,
+    and its friction work would decrease; ``dt (dV0 + dA dt / 2)`` is monotone there.
+    """
+    if st[K1] == 0.0 and st[K2] == 0.0:
+        return dt * ((st[V1] - st[V2]) + 0.5 * (st[A1] - st[A2]) * dt)
+    return d1 - d2
+
+
+@jitable
+def friction_work_of(st, par, d1, d2, slip):
     """Friction work [J] since the origin, outer and inner, after displacements ``d1``, ``d2``
-    [m] of pipe and plug."""
+    [m] of pipe and plug and the pipe's displacement ``slip`` [m] relative to the plug
+    (:func:`slip_of`)."""
     kind = st[KIND]
     if kind == AT_REST:
         zero = 0.0 * d1
@@ -229,11 +246,11 @@ def friction_work_of(st, par, d1, d2):
     outer = work(law_of(par), st[U1], d1, st[S1])
     if kind == TOGETHER:
         return outer, 0.0 * d1
-    # The plug's work is >= 0 (its force opposes the relative motion), but the relative
-    # displacement is a difference of two: a piece that starts at zero relative velocity and
-    # acceleration (a breakaway) and is cut short by another event can leave it below their
-    # round-off, of either sign (-1e-33 J once). Dissipation is never negative.
-    inner = par[P_F2] * st[S2] * (d1 - d2)
+    # The plug's work is >= 0 (its force opposes the relative motion), but a relative
+    # displacement of round-off size (a piece that starts at zero relative velocity and
+    # acceleration, a breakaway, cut short by another event) can have either sign (-1e-33 J
+    # once). Dissipation is never negative.
+    inner = par[P_F2] * st[S2] * slip
     return outer, inner * (inner > 0.0)
 
 

@@ -22,7 +22,7 @@ import math
 
 from ..contact.outer import contact_length
 from ..jit import jitable
-from .pieces import AT_REST, PIPE_REST, STICK, friction_work_of, law_of
+from .pieces import AT_REST, PIPE_REST, STICK, friction_work_of, law_of, slip_of
 from .ram import (
     ACCUMULATE,
     CONTACT,
@@ -34,6 +34,7 @@ from .ram import (
     RELOAD,
     RIDING,
     SEPARATE,
+    ZENO,
     find_ram_event,
     impact,
     make_ram_piece,
@@ -68,6 +69,7 @@ from .record import (
     P_S1,
     RAM,
     RAM_ON,
+    RHO,
     S1,
     S2,
     SEARCHED,
@@ -109,8 +111,13 @@ __all__ = ["ram_step_to", "ram_start_piece", "ram_sample_into", "ram_outputs_at"
 def values_at(st, par, t):
     """``(U1, V1, U2, V2, W_input, W_outer, W_inner)`` [m, m/s, J] at absolute time ``t`` [s]
     inside the current piece (:func:`pipeplug.rigid.stepping.values_at` with the ram)."""
-    d1, v1, d2, v2 = travels(st, par, t - st[T0])
-    outer, inner = friction_work_of(st, par, d1, d2)
+    dt = t - st[T0]
+    d1, v1, d2, v2 = travels(st, par, dt)
+    # the pieces' own closed form of the slip holds while the ram does not bend the pipe's
+    # motion (no cushion contact, no run of impacts)
+    plain = st[RHO] == 0.0 and st[RAM] != ZENO
+    slip = slip_of(st, dt, d1, d2) if plain else d1 - d2
+    outer, inner = friction_work_of(st, par, d1, d2, slip)
     q = st[Q]
     w_in = st[W_IN] + (q * d1 if q == q else 0.0)
     return (st[U1] + d1, v1, st[U2] + d2, v2, w_in, st[W_OUTER] + outer,

@@ -36,6 +36,7 @@ from .pieces import (
     make_piece,
     pipe_of,
     plug_of,
+    slip_of,
 )
 from .record import (
     END,
@@ -309,7 +310,7 @@ def values_at(st, par, t):
     dt = t - st[T0]
     d1, v1 = travel(pipe_of(st), dt)
     d2, v2 = travel(plug_of(st), dt)
-    outer, inner = friction_work_of(st, par, d1, d2)
+    outer, inner = friction_work_of(st, par, d1, d2, slip_of(st, dt, d1, d2))
     q = st[Q]
     w_in = st[W_IN] + (q * d1 if q == q else 0.0 * d1)       # q is nan before the first step
     return (st[U1] + d1, v1, st[U2] + d2, v2, w_in, st[W_OUTER] + outer,

@@ -90,3 +90,17 @@ def test_the_fuzz_finds_a_ledger_that_does_not_close(monkeypatch):
     summary, _ = fuzz(5, range(12), Plan(reference=0, fmu=0, fd=0, model="ram"),
                       Setup(paths=("python",)), progress=None)
     assert summary.rows[("ram ledger", "python")][1] >= 4
+
+
+def test_a_plug_sliding_at_its_limit_books_friction_work_that_never_decreases():
+    """Two campaign cases (seed:index 2028:191, 31:2235) whose plug slides on the pipe at a
+    relative velocity and acceleration of round-off size: the slip's friction work decreased
+    by 1e-17 of the largest work between samples while it was a difference of displacements.
+    The invariant needs no reference: friction work never decreases."""
+    from pipeplug_harness.fuzz.ram_run import run_ram_case
+
+    for seed, index in ((2028, 191), (31, 2235)):
+        case = generate_ram(seed, index, Plan(reference=0, fmu=0, fd=0, model="ram"))
+        result = run_ram_case(case, Setup(("python",)))
+        assert result.values[("friction work", "python")] == 0.0, (seed, index)
+        assert result.failed == [], (seed, index, result.failed)
