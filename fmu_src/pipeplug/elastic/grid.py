@@ -23,12 +23,13 @@ _WHOLE = 1e-9  # relative tolerance of "a whole number of cells"
 
 
 class Section(NamedTuple):
-    """Linear interpolation between two cell centres: value = (1-w) f[a] + w f[b]."""
+    """A section of a rod: value = sum of ``weights[i] f[cells[i]]`` over three cells.
 
-    a: int
-    b: int
-    w: float
-    cell: int  #: the cell containing the section (the node whose modes are reported)
+    The values a rod reports lie on its nodes, linearly between them (:func:`_section`)."""
+
+    cells: tuple      #: three cell indices (a repeated one with weight 0 where fewer count)
+    weights: tuple    #: their weights [1], summing to 1
+    cell: int         #: the cell containing the section (the node whose modes are reported)
 
 
 class Grid(NamedTuple):
@@ -41,8 +42,8 @@ class Grid(NamedTuple):
     h_max: float         #: largest internal step courant*dx/c_fastest [s]
     pipe: Section        #: monitored pipe section
     plug: Section        #: monitored plug section (cells of the plug)
-    cells1: np.ndarray   #: tracked pipe cells: [front, pipe.a, pipe.b]
-    cells2: np.ndarray   #: tracked plug cells: [plug.a, plug.b], or empty
+    cells1: np.ndarray   #: tracked pipe cells: [front, *pipe.cells, *each profile section's]
+    cells2: np.ndarray   #: tracked plug cells: plug.cells, or empty
     profile: tuple       #: pipe sections of the profiles (their cells tracked after the 3 above)
     profile_plug: tuple  #: plug sections of the profiles (empty without a plug)
 
@@ -56,13 +57,36 @@ def cell_count(length: float, dx: float) -> int:
     return int(count)
 
 
+def _node_weights(j: int, n: int) -> dict:
+    """The cells' weights of node ``j`` (x = j dx) of a rod of ``n`` cells: the head's cell at
+    x = 0, the far end's at x = L, the mean of the two cells at every face between.
+
+    Why not the cells themselves: at Courant 1 their velocities carry an odd-even pattern of
+    +-f x / (2 Z) (f the friction per metre, Z the impedance) that does not shrink with dx,
+    the same as the faces' forces (:func:`pipeplug.elastic.cells.node_forces`, docs/elastic.md,
+    root cause 8); the mean of two neighbouring cells does not carry it."""
+    if j <= 0 or n == 1:
+        return {0: 1.0}
+    if j >= n:
+        return {n - 1: 1.0}
+    return {j - 1: 0.5, j: 0.5}
+
+
 def _section(x: float, n: int, dx: float) -> Section:
-    """The section at ``x`` [m] from a rod's rear end: nearest inside the rod if beyond it."""
-    s = min(max(x / dx - 0.5, 0.0), n - 1.0)  # in cell-centre units, clamped to the rod
-    a = min(int(math.floor(s)), max(n - 2, 0))
-    w = s - a
+    """The section at ``x`` [m] from a rod's rear end (nearest inside the rod if beyond it):
+    linear between the nodes (:func:`_node_weights`) at ``floor(x/dx) dx`` and the next."""
+    s = min(max(x / dx, 0.0), float(n))       # in node units, clamped to the rod
+    j = min(int(math.floor(s)), n - 1)
+    w = s - j
+    weights: dict = {}
+    for node, share in ((j, 1.0 - w), (j + 1, w)):
+        for k, c in _node_weights(node, n).items():
+            weights[k] = weights.get(k, 0.0) + share * c
+    cells = sorted(weights)
+    cells += [cells[-1]] * (3 - len(cells))
+    shares = [weights[k] for k in cells[:len(weights)]] + [0.0] * (3 - len(weights))
     cell = min(max(int(math.floor(x / dx + _WHOLE)), 0), n - 1)
-    return Section(a, min(a + 1, n - 1), w, cell)
+    return Section(tuple(cells), tuple(shares), cell)
 
 
 def build_grid(params, profile_points: int = 0) -> Grid:
@@ -85,16 +109,17 @@ def build_grid(params, profile_points: int = 0) -> Grid:
     if p.has_ram:
         _ram_coefficients(p, coef, h_max)
     pipe = _section(p.x_monitor, n1, dx)
-    plug = _section(p.x_monitor - (p.L1 - p.L2), n2, dx) if n2 else Section(0, 0, 0.0, 0)
+    plug = (_section(p.x_monitor - (p.L1 - p.L2), n2, dx) if n2
+            else Section((0, 0, 0), (1.0, 0.0, 0.0), 0))
     profile = profile_plug = ()
     if profile_points:
         xs, xs_plug = profile_sections(p.L1, p.L2, profile_points)
         profile = tuple(_section(float(x), n1, dx) for x in xs)
         if n2:
             profile_plug = tuple(_section(float(x) - (p.L1 - p.L2), n2, dx) for x in xs_plug)
-    cells1 = np.array([n1 - 1, pipe.a, pipe.b, *(c for s in profile for c in (s.a, s.b))],
+    cells1 = np.array([n1 - 1, *pipe.cells, *(c for s in profile for c in s.cells)],
                       dtype=np.int64)
-    cells2 = np.array([plug.a, plug.b] if n2 else [], dtype=np.int64)
+    cells2 = np.array(plug.cells if n2 else [], dtype=np.int64)
     return Grid(n1, n2, p.tau1 > 0.0, coef, h_max, pipe, plug, cells1, cells2, profile,
                 profile_plug)
 

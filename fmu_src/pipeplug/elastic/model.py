@@ -292,11 +292,11 @@ class ElasticModel(ModelBase):
         """The contract's outputs at the last grid point (forces of its internal step)."""
         g, acc = self.grid, self.acc
         v_pipe = _interpolate(self.v1, g.pipe)
-        u_pipe = (1.0 - g.pipe.w) * self.u1[1] + g.pipe.w * self.u1[2]
+        u_pipe = _tracked(self.u1, 1, g.pipe)
         v_plug = u_plug = 0.0
         if g.n2:
             v_plug = _interpolate(self.v2, g.plug)
-            u_plug = (1.0 - g.plug.w) * self.u2[0] + g.plug.w * self.u2[1]
+            u_plug = _tracked(self.u2, 0, g.plug)
         outer, inner = _work(acc, W_OUTER), _work(acc, W_INNER)
         kinetic, strain = self.energies()
         w_input = _work(acc, W_IN)
@@ -433,8 +433,7 @@ def _profiles(model: ElasticModel) -> tuple:
     head's at x = 0, each cell's at its centre, the far end's at x = L1)."""
     g, u1 = model.grid, model.u1
     v = np.array([_interpolate(model.v1, s) for s in g.profile])
-    u = np.array([(1.0 - s.w) * u1[3 + 2 * k] + s.w * u1[4 + 2 * k]
-                  for k, s in enumerate(g.profile)])
+    u = np.array([_tracked(u1, 4 + 3 * k, s) for k, s in enumerate(g.profile)])
     dx, n1 = g.coef[DX], g.n1
     nodes = np.concatenate(([0.0], (np.arange(n1) + 0.5) * dx, [n1 * dx]))
     x = profile_sections(model.params.L1, model.params.L2, len(g.profile))[0]
@@ -445,8 +444,16 @@ def _profiles(model: ElasticModel) -> tuple:
 
 
 def _interpolate(values: np.ndarray, section: Section) -> float:
-    """Linear interpolation between the two cell centres of ``section``."""
-    return (1.0 - section.w) * values[section.a] + section.w * values[section.b]
+    """The value of the cells' ``values`` at ``section`` (its cells' weighted sum)."""
+    (a, b, c), (wa, wb, wc) = section.cells, section.weights
+    return wa * values[a] + wb * values[b] + wc * values[c]
+
+
+def _tracked(u: np.ndarray, first: int, section: Section) -> float:
+    """The displacement [m] at ``section`` from the displacements ``u`` of the tracked cells,
+    its three cells' from index ``first`` on."""
+    wa, wb, wc = section.weights
+    return wa * u[first] + wb * u[first + 1] + wc * u[first + 2]
 
 
 def _sign(value: float) -> int:
