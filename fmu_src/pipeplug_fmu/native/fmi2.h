@@ -1,5 +1,5 @@
 /* FMI 2.0 side of the loader (loader.c): its types, pythonfmu 0.7's functions, and the names
- * the shared sources (states.c, resources.c, text.c) use for this version. */
+ * the shared sources (calls.c, states.c, resources.c, text.c) use for this version. */
 #ifndef PIPEPLUG_FMI2_H
 #define PIPEPLUG_FMI2_H
 
@@ -58,7 +58,7 @@ typedef fmi2Boolean Boolean;
 #define NULL_ARRAY_FORMAT "%s = NULL is not allowed with n = %zu in %s; allowed: an array of " \
                           "n elements"
 #define MAX_COUNT INT_MAX                  /* pythonfmu indexes with a C int */
-/* FMI 2.0 has no configuration mode: every call the loader forwards is allowed in any. */
+/* FMI 2.0 has no configuration mode: nothing to refuse. */
 #define NOT_CONFIGURING(call)
 
 /* pythonfmu's functions --------------------------------------------------------------------- */

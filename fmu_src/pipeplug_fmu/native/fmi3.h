@@ -1,5 +1,5 @@
 /* FMI 3.0 side of the loader (loader3.c): its types, pythonfmu3's functions, and the names the
- * shared sources (states.c, resources.c, text.c, log.c) use for this version. */
+ * shared sources (calls.c, states.c, resources.c, text.c, log.c) use for this version. */
 #ifndef PIPEPLUG_FMI3_H
 #define PIPEPLUG_FMI3_H
 

@@ -66,7 +66,7 @@ const char **readable_strings(const char *const values[], size_t n, size_t offse
 void readable_strings_free(const char **given, const char *const values[], size_t n,
                            size_t offset);
 
-/* Instances (log.c; their FMI functions in loader.c, loader3.c) ------------------------------- */
+/* Instances (log.c; their FMI functions in loader.c, loader3.c, calls.c, states.c) ---------- */
 typedef struct { Status status; char *category, *message; } Line;
 
 typedef struct Instance {
