@@ -27,8 +27,8 @@ def null_or_hexed(x) -> str:
 class HostSession:
     """One host process (``host``, of kind ``kind``) with an FMU (and Hammer.fmu) loaded, instances made with the
     session's debug logging: the steps of the probes under FMI 2.0's method names. A version's
-    session makes its instances (``new``, ``hammer``), enters initialization (``enter``) and
-    says how a set call gives its value (``_set_words``)."""
+    session makes its instances (``new``), names the binary to open (``_binary_word``), enters
+    initialization (``enter``) and says how a set call gives its value (``_set_words``)."""
 
     def __init__(self, kind: str, logging: bool, fmu_dir: Path, hammer_dir: Path,
                  host: CHost):
@@ -48,6 +48,13 @@ class HostSession:
         """A new PipePlug instance (checked: made, no line)."""
         made = self.new(uri="usual")
         assert made["kind"] == "int" and made["log"] == [], made
+        return made["words"][0]
+
+    def hammer(self) -> str:
+        """A new Hammer instance, in the same process (its own binary)."""
+        opened = self.host("open", hexed(self._binary_word(self.hammer_dir, "Hammer")))
+        made = self.new("hammer", "usual", fmu_dir=self.hammer_dir, lib=opened["words"][0])
+        assert made["kind"] == "int", made
         return made["words"][0]
 
     def call(self, ident, method, *args) -> dict:
@@ -117,21 +124,19 @@ class Session(HostSession):
             process = CHost([sys.executable, str(HERE / "fmpy_host.py")], fmu_dir, None)
         super().__init__(host, logging, fmu_dir, hammer_dir, process)
 
-    def new(self, name="probe", uri=None, kind=1) -> dict:
-        """fmi2Instantiate of PipePlug (``name`` or ``uri`` None: NULL; bytes: as they are)."""
-        uri = resource_uri(self.fmu_dir) if uri == "usual" else uri
-        return self("instantiate", null_or_hexed(name), hexed(guid_of(self.fmu_dir)),
-                    null_or_hexed(uri), int(self.logging), kind)
+    def new(self, name="probe", uri=None, kind=1, fmu_dir=None, lib=None) -> dict:
+        """fmi2Instantiate of PipePlug, or of the FMU in ``fmu_dir`` from the host's binary
+        ``lib`` (``name`` or ``uri`` None: NULL; bytes: as they are; ``uri`` "usual": the
+        FMU's resources)."""
+        fmu_dir = fmu_dir or self.fmu_dir
+        uri = resource_uri(fmu_dir) if uri == "usual" else uri
+        return self("instantiate", null_or_hexed(name), hexed(guid_of(fmu_dir)),
+                    null_or_hexed(uri), int(self.logging), kind, *([] if lib is None else [lib]))
 
-    def hammer(self) -> str:
-        """A new Hammer instance, in the same process (its own binary)."""
-        binary = self.hammer_dir / "binaries" / "linux64" / "Hammer.so"
-        opened = self("open", hexed(str(binary if self.kind == "c" else self.hammer_dir)))
-        made = self("instantiate", hexed("hammer"), hexed(guid_of(self.hammer_dir)),
-                    hexed(resource_uri(self.hammer_dir)), int(self.logging), 1,
-                    opened["words"][0])
-        assert made["kind"] == "int", made
-        return made["words"][0]
+    def _binary_word(self, fmu_dir: Path, identifier: str) -> str:
+        """What the host opens for an FMU: its linux64 binary (FMPy's host: its folder)."""
+        binary = fmu_dir / "binaries" / "linux64" / f"{identifier}.so"
+        return str(binary if self.kind == "c" else fmu_dir)
 
     @staticmethod
     def _set_words(vr: int, word: str) -> list:

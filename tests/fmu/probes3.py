@@ -68,21 +68,21 @@ class Session3(HostSession):
             words[2] = _null_method(words[2])
         return self.host(*words)
 
-    def new(self, name="probe", uri=None, kind=1, event_mode=0) -> dict:
-        """fmi3InstantiateCoSimulation (``name`` or ``uri`` None: NULL; ``uri`` "usual": the
-        FMU's resources; ``kind`` 0, FMI 2.0's model exchange: eventModeUsed true)."""
-        path = resource_path(self.fmu_dir) if uri == "usual" else uri
-        return self.host("instantiate", null_or_hexed(name), hexed(token_of(self.fmu_dir)),
-                         null_or_hexed(path), int(self.logging), int(event_mode or kind == 0))
+    def new(self, name="probe", uri=None, kind=1, event_mode=0, fmu_dir=None,
+            lib=None) -> dict:
+        """fmi3InstantiateCoSimulation of PipePlug, or of the FMU in ``fmu_dir`` from the host's
+        binary ``lib`` (``name`` or ``uri`` None: NULL; ``uri`` "usual": the FMU's resources;
+        ``kind`` 0, FMI 2.0's model exchange: eventModeUsed true)."""
+        fmu_dir = fmu_dir or self.fmu_dir
+        path = resource_path(fmu_dir) if uri == "usual" else uri
+        return self.host("instantiate", null_or_hexed(name), hexed(token_of(fmu_dir)),
+                         null_or_hexed(path), int(self.logging), int(event_mode or kind == 0),
+                         *([] if lib is None else [lib]))
 
-    def hammer(self) -> str:
-        binary = self.hammer_dir / "binaries" / "x86_64-linux" / "Hammer.so"
-        opened = self.host("open", hexed(str(binary)))
-        made = self.host("instantiate", hexed("hammer"), hexed(token_of(self.hammer_dir)),
-                         hexed(resource_path(self.hammer_dir)), int(self.logging), 0,
-                         opened["words"][0])
-        assert made["kind"] == "int", made
-        return made["words"][0]
+    @staticmethod
+    def _binary_word(fmu_dir: Path, identifier: str) -> str:
+        """What the host opens for an FMU: its x86_64-linux binary."""
+        return str(fmu_dir / "binaries" / "x86_64-linux" / f"{identifier}.so")
 
     @staticmethod
     def _set_words(vr: int, word: str) -> list:
