@@ -5,6 +5,7 @@ A probe is a function of a :class:`Session` (one host process: the plain C host 
 or FMPy's low-level API in ``fmpy_host.py``, logging on or off); it makes its refused call last
 and returns ``(answer, instance)``: the answer of that call and the instance it refused
 (None when fmi2Instantiate returned NULL). :data:`PROBES` says what the contract expects of each.
+:class:`HostSession` holds what the sessions of both FMI versions share (``probes3.py``).
 """
 from __future__ import annotations
 
@@ -18,18 +19,21 @@ HERE = Path(__file__).resolve().parent
 ERROR, DISCARD = 3, 2
 
 
-class Session:
-    """One host process with PipePlug.fmu (and Hammer.fmu) loaded, instances made with the
-    session's debug logging."""
+def null_or_hexed(x) -> str:
+    """``x`` as a host word: "~" (NULL) for None, else hex."""
+    return "~" if x is None else hexed(x)
 
-    def __init__(self, host: str, logging: bool, fmu_dir: Path, hammer_dir: Path,
-                 c_host: Path, env: dict | None = None):
-        self.fmu_dir, self.hammer_dir, self.logging, self.kind = fmu_dir, hammer_dir, logging, host
-        if host == "c":
-            env = host_env(**{"PIPEPLUG_PYTHON": sys.executable, **(env or {})})
-            self.host = CHost(c_host, fmu_dir / "binaries" / "linux64" / "PipePlug.so", env)
-        else:
-            self.host = CHost([sys.executable, str(HERE / "fmpy_host.py")], fmu_dir, None)
+
+class HostSession:
+    """One host process (``host``, of kind ``kind``) with an FMU (and Hammer.fmu) loaded, instances made with the
+    session's debug logging: the steps of the probes under FMI 2.0's method names. A version's
+    session makes its instances (``new``), names the binary to open (``_binary_word``), enters
+    initialization (``enter``) and says how a set call gives its value (``_set_words``)."""
+
+    def __init__(self, kind: str, logging: bool, fmu_dir: Path, hammer_dir: Path,
+                 host: CHost):
+        self.fmu_dir, self.hammer_dir, self.logging, self.kind = fmu_dir, hammer_dir, logging, kind
+        self.host = host
         from fmpy import read_model_description
 
         self.vars = {v.name: v for v in read_model_description(str(fmu_dir)).modelVariables}
@@ -40,15 +44,6 @@ class Session:
     def vr(self, name: str) -> int:
         return self.vars[name].valueReference
 
-    # Instances -----------------------------------------------------------------------------
-    def new(self, name="probe", uri=None, kind=1) -> dict:
-        """fmi2Instantiate of PipePlug (``name`` or ``uri`` None: NULL; bytes: as they are)."""
-        def word(x):
-            return "~" if x is None else hexed(x)
-        uri = resource_uri(self.fmu_dir) if uri == "usual" else uri
-        return self("instantiate", word(name), hexed(guid_of(self.fmu_dir)), word(uri),
-                    int(self.logging), kind)
-
     def instance(self) -> str:
         """A new PipePlug instance (checked: made, no line)."""
         made = self.new(uri="usual")
@@ -57,15 +52,11 @@ class Session:
 
     def hammer(self) -> str:
         """A new Hammer instance, in the same process (its own binary)."""
-        binary = self.hammer_dir / "binaries" / "linux64" / "Hammer.so"
-        opened = self("open", hexed(str(binary if self.kind == "c" else self.hammer_dir)))
-        made = self("instantiate", hexed("hammer"), hexed(guid_of(self.hammer_dir)),
-                    hexed(resource_uri(self.hammer_dir)), int(self.logging), 1,
-                    opened["words"][0])
+        opened = self.host("open", hexed(self._binary_word(self.hammer_dir, "Hammer")))
+        made = self.new("hammer", "usual", fmu_dir=self.hammer_dir, lib=opened["words"][0])
         assert made["kind"] == "int", made
         return made["words"][0]
 
-    # Calls ---------------------------------------------------------------------------------
     def call(self, ident, method, *args) -> dict:
         return self("call", ident, method, *args)
 
@@ -76,24 +67,19 @@ class Session:
         return answer
 
     def set(self, ident, name, value) -> dict:
-        """fmi2Set<type> of one variable (Strings: str, bytes, or None for NULL)."""
+        """The set call of one variable's type (Strings: str, bytes, or None for NULL)."""
         v = self.vars[name]
         if v.type == "String":
-            word = "~" if value is None else hexed(value)
-        elif v.type in ("Boolean", "Integer"):
+            word = null_or_hexed(value)
+        elif v.type in ("Boolean", "Integer", "Int32", "UInt64"):
             word = str(int(value))
         else:
             word = repr(float(value))
-        return self.call(ident, "set" + v.type, 1, v.valueReference, word)
-
-    def enter(self, ident, stop=None, start=0.0) -> None:
-        """fmi2SetupExperiment and fmi2EnterInitializationMode (checked)."""
-        self.ok(ident, "setupExperiment", "none", repr(start),
-                "none" if stop is None else repr(stop))
-        self.ok(ident, "enterInitializationMode")
+        return self.host("call", ident, "set" + v.type,
+                         *self._set_words(v.valueReference, word))
 
     def start(self, ident, params=None, stop=None) -> dict:
-        """Parameters set (checked), then fmi2ExitInitializationMode: its answer."""
+        """Parameters set (checked), then exitInitializationMode: its answer."""
         self.enter(ident, stop)
         for name, value in (params or {}).items():
             answer = self.set(ident, name, value)
@@ -108,7 +94,7 @@ class Session:
         return ident
 
     def step(self, ident, t, h, q=23e3) -> dict:
-        """Q set (checked), then fmi2DoStep(t, h): its answer."""
+        """Q set (checked), then doStep(t, h): its answer."""
         answer = self.set(ident, "Q", q)
         assert answer["status"] == 0 and answer["log"] == [], answer
         return self.call(ident, "doStep", repr(float(t)), repr(float(h)))
@@ -123,6 +109,45 @@ class Session:
 
     def close(self) -> int:
         return self.host.close()
+
+
+class Session(HostSession):
+    """One host process with PipePlug.fmu (and Hammer.fmu) loaded: the C host (``host`` "c")
+    or FMPy's (any other ``host``)."""
+
+    def __init__(self, host: str, logging: bool, fmu_dir: Path, hammer_dir: Path,
+                 c_host: Path, env: dict | None = None):
+        if host == "c":
+            env = host_env(**{"PIPEPLUG_PYTHON": sys.executable, **(env or {})})
+            process = CHost(c_host, fmu_dir / "binaries" / "linux64" / "PipePlug.so", env)
+        else:
+            process = CHost([sys.executable, str(HERE / "fmpy_host.py")], fmu_dir, None)
+        super().__init__(host, logging, fmu_dir, hammer_dir, process)
+
+    def new(self, name="probe", uri=None, kind=1, fmu_dir=None, lib=None) -> dict:
+        """fmi2Instantiate of PipePlug, or of the FMU in ``fmu_dir`` from the host's binary
+        ``lib`` (``name`` or ``uri`` None: NULL; bytes: as they are; ``uri`` "usual": the
+        FMU's resources)."""
+        fmu_dir = fmu_dir or self.fmu_dir
+        uri = resource_uri(fmu_dir) if uri == "usual" else uri
+        return self("instantiate", null_or_hexed(name), hexed(guid_of(fmu_dir)),
+                    null_or_hexed(uri), int(self.logging), kind, *([] if lib is None else [lib]))
+
+    def _binary_word(self, fmu_dir: Path, identifier: str) -> str:
+        """What the host opens for an FMU: its linux64 binary (FMPy's host: its folder)."""
+        binary = fmu_dir / "binaries" / "linux64" / f"{identifier}.so"
+        return str(binary if self.kind == "c" else fmu_dir)
+
+    @staticmethod
+    def _set_words(vr: int, word: str) -> list:
+        """fmi2Set<type>'s words: N, the value reference, the value."""
+        return [1, vr, word]
+
+    def enter(self, ident, stop=None, start=0.0) -> None:
+        """fmi2SetupExperiment and fmi2EnterInitializationMode (checked)."""
+        self.ok(ident, "setupExperiment", "none", repr(start),
+                "none" if stop is None else repr(stop))
+        self.ok(ident, "enterInitializationMode")
 
 
 class Hosts:

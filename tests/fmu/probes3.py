@@ -19,7 +19,9 @@ from probes import (
     LIMITED,
     PROBES,
     Expected,
+    HostSession,
     instantiate,
+    null_or_hexed,
     out_of_order,
     parameters,
     raw,
@@ -41,27 +43,21 @@ def resource_path(fmu_dir: Path) -> str:
     return str(Path(fmu_dir) / "resources") + "/"
 
 
-class Session3:
+class Session3(HostSession):
     """One host process with the FMI 3.0 PipePlug.fmu (and Hammer.fmu) loaded; ``host`` "c"
     (no Python in the process until the FMU brings one) or "python" (the FMU uses the host's
     interpreter)."""
 
     def __init__(self, host: str, logging: bool, fmu_dir: Path, hammer_dir: Path,
                  c3_host: Path, c3_library: Path, env: dict | None = None):
-        self.fmu_dir, self.hammer_dir, self.logging, self.kind = fmu_dir, hammer_dir, logging, host
         binary = fmu_dir / "binaries" / "x86_64-linux" / "PipePlug.so"
         if host == "c":
             env = host_env(**{"PIPEPLUG_PYTHON": sys.executable, **(env or {})})
-            self.host = CHost(c3_host, binary, env)
+            process = CHost(c3_host, binary, env)
         else:
-            self.host = CHost([sys.executable, str(HERE / "python_host3.py"), str(c3_library)],
-                              binary, None)
-        from fmpy import read_model_description
-
-        self.vars = {v.name: v for v in read_model_description(str(fmu_dir)).modelVariables}
-
-    def vr(self, name: str) -> int:
-        return self.vars[name].valueReference
+            process = CHost([sys.executable, str(HERE / "python_host3.py"), str(c3_library)],
+                            binary, None)
+        super().__init__(host, logging, fmu_dir, hammer_dir, process)
 
     # The FMI 2.0 words of probes.py, in FMI 3.0 ------------------------------------------------
     def __call__(self, *words) -> dict:
@@ -72,79 +68,36 @@ class Session3:
             words[2] = _null_method(words[2])
         return self.host(*words)
 
-    def new(self, name="probe", uri=None, kind=1, event_mode=0) -> dict:
-        """fmi3InstantiateCoSimulation (``name`` or ``uri`` None: NULL; ``uri`` "usual": the
-        FMU's resources; ``kind`` 0, FMI 2.0's model exchange: eventModeUsed true)."""
-        def word(x):
-            return "~" if x is None else hexed(x)
-        path = resource_path(self.fmu_dir) if uri == "usual" else uri
-        return self.host("instantiate", word(name), hexed(token_of(self.fmu_dir)), word(path),
-                         int(self.logging), int(event_mode or kind == 0))
+    def new(self, name="probe", uri=None, kind=1, event_mode=0, fmu_dir=None,
+            lib=None) -> dict:
+        """fmi3InstantiateCoSimulation of PipePlug, or of the FMU in ``fmu_dir`` from the host's
+        binary ``lib`` (``name`` or ``uri`` None: NULL; ``uri`` "usual": the FMU's resources;
+        ``kind`` 0, FMI 2.0's model exchange: eventModeUsed true)."""
+        fmu_dir = fmu_dir or self.fmu_dir
+        path = resource_path(fmu_dir) if uri == "usual" else uri
+        return self.host("instantiate", null_or_hexed(name), hexed(token_of(fmu_dir)),
+                         null_or_hexed(path), int(self.logging), int(event_mode or kind == 0),
+                         *([] if lib is None else [lib]))
 
-    def instance(self) -> str:
-        made = self.new(uri="usual")
-        assert made["kind"] == "int" and made["log"] == [], made
-        return made["words"][0]
+    @staticmethod
+    def _binary_word(fmu_dir: Path, identifier: str) -> str:
+        """What the host opens for an FMU: its x86_64-linux binary."""
+        return str(fmu_dir / "binaries" / "x86_64-linux" / f"{identifier}.so")
 
-    def hammer(self) -> str:
-        binary = self.hammer_dir / "binaries" / "x86_64-linux" / "Hammer.so"
-        opened = self.host("open", hexed(str(binary)))
-        made = self.host("instantiate", hexed("hammer"), hexed(token_of(self.hammer_dir)),
-                         hexed(resource_path(self.hammer_dir)), int(self.logging), 0,
-                         opened["words"][0])
-        assert made["kind"] == "int", made
-        return made["words"][0]
-
-    def call(self, ident, method, *args) -> dict:
-        return self("call", ident, method, *args)
-
-    def ok(self, ident, method, *args) -> dict:
-        answer = self.call(ident, method, *args)
-        assert answer["status"] == 0 and answer["log"] == [], (method, args, answer)
-        return answer
-
-    def set(self, ident, name, value) -> dict:
-        v = self.vars[name]
-        if v.type == "String":
-            word = "~" if value is None else hexed(value)
-        elif v.type in ("Boolean", "Int32", "UInt64"):
-            word = str(int(value))
-        else:
-            word = repr(float(value))
-        return self.host("call", ident, "set" + v.type, 1, v.valueReference, 1, word)
+    @staticmethod
+    def _set_words(vr: int, word: str) -> list:
+        """fmi3Set<type>'s words: nValueReferences, the value reference, nValues, the value."""
+        return [1, vr, 1, word]
 
     def enter(self, ident, stop=None, start=0.0) -> None:
+        """fmi3EnterInitializationMode with the start and stop time (checked)."""
         self.ok(ident, "enterInitializationMode", repr(start),
                 "none" if stop is None else repr(stop))
 
-    def start(self, ident, params=None, stop=None) -> dict:
-        self.enter(ident, stop)
-        for name, value in (params or {}).items():
-            answer = self.set(ident, name, value)
-            assert answer["status"] == 0 and answer["log"] == [], (name, answer)
-        return self.call(ident, "exitInitializationMode")
-
-    def running(self, params=None, stop=None) -> str:
-        ident = self.instance()
-        answer = self.start(ident, params, stop)
-        assert answer["status"] == 0 and answer["log"] == [], answer
-        return ident
-
     def step(self, ident, t, h, q=23e3) -> dict:
-        answer = self.set(ident, "Q", q)
-        assert answer["status"] == 0 and answer["log"] == [], answer
-        answer = self.call(ident, "doStep", repr(float(t)), repr(float(h)))
+        """FMI 2.0's answer to a step: fmi3DoStep's flags left out."""
+        answer = super().step(ident, t, h, q)
         return {**answer, "kind": "none", "words": []} if answer["kind"] == "step" else answer
-
-    def blob(self, ident) -> str:
-        state_ = self("get_state", ident)
-        assert state_["status"] == 0, state_
-        blob = self("serialize", ident, state_["words"][0])
-        assert blob["status"] == 0 and blob["log"] == [], blob
-        return blob["words"][0]
-
-    def close(self) -> int:
-        return self.host.close()
 
 
 def _translated(method: str, args: list) -> list:

@@ -17,16 +17,7 @@ from __future__ import annotations
 
 import pytest
 from probes3 import PROBES3, Session3
-from test_fmu_probes import (
-    CATEGORY,
-    DISCARD,
-    ERROR,
-    _another_instance_runs,
-    _environment,
-    _instantiates_again,
-    _refuses_until_reset,
-    _steps_on,
-)
+from test_fmu_probes import _another_instance_runs, _environment, _refused_then
 
 SHARED = [name for name, (_, expected) in PROBES3.items() if not expected.env]
 OWN_PROCESS = [name for name, (_, expected) in PROBES3.items() if expected.env]
@@ -43,25 +34,8 @@ def c3_library(tmp_path_factory):
 def _probe(session: Session3, name: str) -> None:
     """Run probe ``name`` in ``session`` and what follows it (see the module docstring)."""
     probe, expected = PROBES3[name]
-    if not expected.enabled:
-        return
-    answer, ident = probe(session)
-    refused_with = ERROR if expected.status == "null" else expected.status
-    if expected.status == "null":
-        assert answer["kind"] == "null", answer
-    else:
-        assert answer["status"] == expected.status, answer
-    assert len(answer["log"]) == 1, answer
-    _, status, message, category = answer["log"][0]
-    assert (status, category) == (refused_with, CATEGORY[refused_with]), answer
-    for text in expected.texts:
-        assert text in message, (text, message)
-    if expected.status == ERROR:
-        _refuses_until_reset(session, ident)
-    elif expected.status == DISCARD:
-        _steps_on(session, ident, expected.then_q, expected.then_set)
-    else:
-        _instantiates_again(session)
+    if expected.enabled:
+        _refused_then(session, probe, expected)
 
 
 @pytest.mark.parametrize("host, logging", [("c", False), ("python", True)],

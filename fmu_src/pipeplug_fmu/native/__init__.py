@@ -1,8 +1,9 @@
 """The FMUs' linux64 binary: a small loader in front of pythonfmu's (FMI 2.0: ``loader.c`` with
 ``fmi2.h``) or pythonfmu3's (FMI 3.0: ``loader3.c`` with ``fmi3.h``). The other sources are
-shared by both versions: ``log.c`` gives lines to the host, ``python.c`` finds a Python,
-``inner.c`` loads pythonfmu's binary and guards its exit, ``resources.c`` checks the resource
-folder, ``states.c`` the FMU states, ``text.c`` holds text helpers.
+shared by both versions: ``calls.c`` checks every call and holds the calls both versions
+have alike, ``log.c`` gives lines to the host, ``python.c`` finds a Python, ``inner.c`` loads
+pythonfmu's binary and guards its exit, ``resources.c`` checks the resource folder,
+``states.c`` the FMU states (and has their calls), ``text.c`` holds text helpers.
 
 It is compiled at build time, once per FMU and FMI version with its model identifier and the
 version as compile-time defines,

@@ -1,5 +1,5 @@
 /* FMI 2.0 side of the loader (loader.c): its types, pythonfmu 0.7's functions, and the names
- * the shared sources (states.c, resources.c, text.c) use for this version. */
+ * the shared sources (calls.c, states.c, resources.c, text.c) use for this version. */
 #ifndef PIPEPLUG_FMI2_H
 #define PIPEPLUG_FMI2_H
 
@@ -31,6 +31,7 @@ typedef struct {
 typedef fmi2Status Status;
 typedef fmi2FMUstate FmuState;
 typedef fmi2Byte Byte;
+typedef fmi2Boolean Boolean;
 #define ST_OK fmi2OK
 #define ST_WARNING fmi2Warning
 #define ST_DISCARD fmi2Discard
@@ -38,7 +39,9 @@ typedef fmi2Byte Byte;
 #define ST_FATAL fmi2Fatal
 /* The host's callbacks, and ours given to pythonfmu (Instance). */
 #define HOST_FIELDS fmi2CallbackFunctions host, mine;
+#define FMI_PREFIX fmi2                /* of the calls: FMI_FUNCTION(Reset) is fmi2Reset */
 #define FMI "fmi2"
+#define FMI_TITLE "FMI 2.0"
 #define RESOURCE_ARGUMENT "fmuResourceLocation"
 #define RESOURCE_EXAMPLE "file:///path/to/resources"
 #define RESOURCE_SPELLING "the URI of " MODEL "'s resources folder, " RESOURCE_EXAMPLE
@@ -51,6 +54,12 @@ typedef fmi2Byte Byte;
 #define STATE_SIZE fmi2SerializedFMUstateSize
 #define STATE_SERIALIZE fmi2SerializeFMUstate
 #define STATE_DESERIALIZE fmi2DeSerializeFMUstate
+/* A NULL array (name, n elements, call) and the most elements a call takes (calls.c). */
+#define NULL_ARRAY_FORMAT "%s = NULL is not allowed with n = %zu in %s; allowed: an array of " \
+                          "n elements"
+#define MAX_COUNT INT_MAX                  /* pythonfmu indexes with a C int */
+/* FMI 2.0 has no configuration mode: nothing to refuse. */
+#define NOT_CONFIGURING(call)
 
 /* pythonfmu's functions --------------------------------------------------------------------- */
 #define INNER_FUNCTIONS(X) \

@@ -1,5 +1,5 @@
 /* FMI 3.0 side of the loader (loader3.c): its types, pythonfmu3's functions, and the names the
- * shared sources (states.c, resources.c, text.c, log.c) use for this version. */
+ * shared sources (calls.c, states.c, resources.c, text.c, log.c) use for this version. */
 #ifndef PIPEPLUG_FMI3_H
 #define PIPEPLUG_FMI3_H
 
@@ -43,6 +43,7 @@ typedef void (*fmi3UnlockPreemptionCallback)(void);
 typedef fmi3Status Status;
 typedef fmi3FMUState FmuState;
 typedef fmi3Byte Byte;
+typedef fmi3Boolean Boolean;
 #define ST_OK fmi3OK
 #define ST_WARNING fmi3Warning
 #define ST_DISCARD fmi3Discard
@@ -50,7 +51,9 @@ typedef fmi3Byte Byte;
 #define ST_FATAL fmi3Fatal
 /* The host's logger and its instanceEnvironment (Instance). */
 #define HOST_FIELDS fmi3InstanceEnvironment environment; fmi3LogMessageCallback logger;
+#define FMI_PREFIX fmi3                /* of the calls: FMI_FUNCTION(Reset) is fmi3Reset */
 #define FMI "fmi3"
+#define FMI_TITLE "FMI 3.0"
 #define RESOURCE_ARGUMENT "resourcePath"
 #define RESOURCE_EXAMPLE "/path/to/resources/"
 #define RESOURCE_SPELLING "the absolute path of " MODEL "'s resources folder, " RESOURCE_EXAMPLE
@@ -63,6 +66,16 @@ typedef fmi3Byte Byte;
 #define STATE_SIZE fmi3SerializedFMUStateSize
 #define STATE_SERIALIZE fmi3SerializeFMUState
 #define STATE_DESERIALIZE fmi3DeserializeFMUState
+/* A NULL array (name, n elements, call) and the most elements a call takes (calls.c): the
+ * header's value references come first (HEADER_VRS below). */
+#define NULL_ARRAY_FORMAT "%s = NULL is not allowed with %zu elements in %s; allowed: an " \
+                          "array of that many elements"
+#define MAX_COUNT (INT_MAX - HEADER_VRS)
+/* The FMI 3.0 state machine's configuration mode (loader3.c): `call` of the instance `in` is
+ * refused in it. */
+struct Instance;
+fmi3Status refuse_configuring(struct Instance *in, const char *call);
+#define NOT_CONFIGURING(call) if (in->configuring) return refuse_configuring(in, call)
 
 /* Value references the loader puts first in pythonfmu3's calls (never the host's: a host's
  * value reference comes after them); the slave's binding (pipeplug_fmu/fmi3.py) reads them.

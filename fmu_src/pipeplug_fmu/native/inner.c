@@ -1,4 +1,4 @@
-/* pythonfmu's binary beside the loader: loading it, and the exit guard.
+/* pythonfmu's binary beside the loader: loading it (once per process), and the exit guard.
  *
  * Exit guard: pythonfmu's binary releases its interpreter state (a global shared_ptr, pyState)
  * twice at exit: the C++ exit handler destroys it, then an ELF destructor resets it again,
@@ -11,6 +11,7 @@
 #include <elf.h>
 #include <fcntl.h>
 #include <link.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -77,7 +78,8 @@ static void empty_pystate(void) {
 EXPORT void *JOINED(MODEL_IDENTIFIER, _exitGuardTarget)(void) { return pystate; }
 
 /* Loading pythonfmu's binary ------------------------------------------------------------------ */
-int load_inner(Text *why) {
+/* Load pythonfmu's binary beside this one into `inner`; 0 on success, else a line in `why`. */
+static int load_inner(Text *why) {
     Dl_info self;
     char path[4096];
     if (dladdr((void *)load_inner, &self) == 0 || self.dli_fname == NULL) {
@@ -106,4 +108,18 @@ int load_inner(Text *why) {
         atexit(empty_pystate);    /* this library is linked nodelete: it is still there */
     }
     return 0;
+}
+
+static pthread_mutex_t load_lock = PTHREAD_MUTEX_INITIALIZER;
+static int loaded;                          /* inner is complete */
+
+int inner_ready(const Instance *in) {
+    Text why = {0};
+    pthread_mutex_lock(&load_lock);
+    int ready = loaded || (ensure_python(&why) == 0 && load_inner(&why) == 0);
+    loaded = ready;
+    pthread_mutex_unlock(&load_lock);
+    if (!ready) host_log(in, ST_ERROR, why.data ? why.data : MODEL " cannot start");
+    free(why.data);
+    return ready;
 }

@@ -3,7 +3,9 @@
  * Compiled once per FMU with -DMODEL_IDENTIFIER=<its modelIdentifier> (say PipePlug) and
  * -DFMI_VERSION=2, and shipped as binaries/linux64/PipePlug.so; every name below that belongs to
  * one FMU derives from it. The parts it shares with the FMI 3.0 loader (loader3.c) are the other
- * sources: log.c (P1, P3 below), python.c, inner.c, resources.c, states.c and text.c.
+ * sources: log.c (P1, P3 below), calls.c (the checks of every call, fmi2FreeInstance,
+ * fmi2SetDebugLogging, fmi2Terminate), python.c, inner.c, resources.c, states.c (the
+ * FMU-state calls) and text.c.
  *
  * pythonfmu's binary (shipped beside this one as PipePlug_pythonfmu.so) runs the slave in a
  * Python interpreter that must already be in the process: it is not linked to libpython. This
@@ -40,13 +42,8 @@
 #include "loader.h"
 
 #include <limits.h>
-#include <pthread.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-static pthread_mutex_t load_lock = PTHREAD_MUTEX_INITIALIZER;
-static int loaded;                          /* inner is complete */
 
 /* Logging (the rest is log.c) ------------------------------------------------------------- */
 static void buffer_line(fmi2ComponentEnvironment env, fmi2String name, fmi2Status status,
@@ -71,24 +68,11 @@ static void early_log(const fmi2CallbackFunctions *f, const char *name, Text *wh
 
 /* What makes the arguments unusable, as one line in `why`; 0 when they are usable. */
 static int instantiate_refusal(fmi2String name, fmi2Type type, Text *why) {
-    if (name == NULL) {
-        text_printf(why, "instanceName = NULL is not allowed; allowed: a string (FMI 2.0: the "
-                    "instance's name)");
-    } else if (!utf8_valid(name)) {
-        text_printf(why, "instanceName = ");
-        text_shown(why, name, strlen(name), 200);
-        text_printf(why, " is not allowed; allowed: UTF-8 text");
-    } else if (type != fmi2CoSimulation) {
-        text_printf(why, "fmuType = %d is not allowed; allowed: %d (fmi2CoSimulation; " MODEL
-                    " has no model exchange)", (int)type, (int)fmi2CoSimulation);
-    } else {
-        return 0;
-    }
+    if (name_refusal(name, why) != 0) return -1;
+    if (type == fmi2CoSimulation) return 0;
+    text_printf(why, "fmuType = %d is not allowed; allowed: %d (fmi2CoSimulation; " MODEL
+                " has no model exchange)", (int)type, (int)fmi2CoSimulation);
     return -1;
-}
-
-static void free_instance_memory(Instance *in) {
-    free(in->lines), free(in->name), free(in);
 }
 
 EXPORT const char *fmi2GetTypesPlatform(void) { return "default"; }
@@ -112,92 +96,20 @@ EXPORT fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String 
     in->logging_on = logging_on == 1;
     in->mine = (fmi2CallbackFunctions){buffer_line, functions->allocateMemory,
                                         functions->freeMemory, NULL, in};
-    pthread_mutex_lock(&load_lock);
-    int ready = loaded || (ensure_python(&why) == 0 && load_inner(&why) == 0);
-    loaded = ready;
-    pthread_mutex_unlock(&load_lock);
-    if (ready) {        /* P3: pythonfmu logs everything; finish() filters for the host */
+    if (inner_ready(in)) {   /* P3: pythonfmu logs everything; finish() filters for the host */
         in->inner = inner.fmi2Instantiate(name, type, guid, uri, &in->mine, visible, 1);
         finish(in, fmi2OK);
-    } else {
-        host_log(in, fmi2Error, why.data ? why.data : MODEL " cannot start");
     }
-    free(why.data);
-    if (in->inner == NULL) {
-        free_instance_memory(in);
-        return NULL;
-    }
-    return in;
+    return instance_made(in);
 }
 
-EXPORT void fmi2FreeInstance(fmi2Component c) {
-    Instance *in = c;
-    if (in == NULL) return;
-    states_of_instance_free(in);
-    inner.fmi2FreeInstance(in->inner);
-    finish(in, fmi2OK);
-    free_instance_memory(in);
-}
-
-/* Checks before forwarding ------------------------------------------------------------------ */
-/* After an error: refuse `call` with one short line. */
-static fmi2Status refuse_after_error(Instance *in, const char *call) {
-    Text why = {0};
-    text_printf(&why, "%s is not allowed after an error; allowed: fmi2SetFMUstate, fmi2Reset, "
-                "fmi2Terminate, fmi2FreeInstance", call);
-    return refuse(in, &why);
-}
-
-/* Refuse a NULL pointer argument `name` of `call` (NULL with n elements when n is given). */
-static fmi2Status refuse_null(Instance *in, const char *call, const char *name, size_t n) {
-    Text why = {0};
-    if (n) text_printf(&why, "%s = NULL is not allowed with n = %zu in %s; allowed: an array of "
-                       "n elements", name, n, call);
-    else text_printf(&why, "%s = NULL is not allowed in %s; allowed: a pointer to a result",
-                     name, call);
-    return refuse(in, &why);
-}
-
-/* Refuse `n` elements, more than pythonfmu can index (a C int). */
-static fmi2Status refuse_count(Instance *in, const char *call, size_t n) {
-    Text why = {0};
-    text_printf(&why, "n = %zu is not allowed in %s; allowed: <= %d", n, call, INT_MAX);
-    return refuse(in, &why);
-}
-
-/* The usual checks: an instance, not after an error (unless `call` is allowed then). */
-#define CHECKED(call) \
-    Instance *in = c; \
-    if (in == NULL) return fmi2Error; \
-    if (in->failed) return refuse_after_error(in, call)
-/* Arrays of `n` elements given (`a` and `b`). */
+/* Arrays of `n` elements given (`a` and `b`; the checks of every call are in calls.c). */
 #define ARRAYS(call, a, b, n) \
     if ((n) > 0 && (a) == NULL) return refuse_null(in, call, #a, n); \
     if ((n) > 0 && (b) == NULL) return refuse_null(in, call, #b, n); \
-    if ((n) > (size_t)INT_MAX) return refuse_count(in, call, n)
+    if ((n) > (size_t)MAX_COUNT) return refuse_count(in, call, "n", n)
 
-/* The fmi2 functions ------------------------------------------------------------------------ */
-EXPORT fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean on, size_t n,
-                                      const fmi2String categories[]) {
-    Instance *in = c;
-    if (in == NULL) return fmi2Error;
-    if (n > 0 && categories == NULL) return refuse_null(in, "fmi2SetDebugLogging", "categories",
-                                                        n);
-    unsigned mask = 0;
-    for (size_t i = 0; i < n; i++) {
-        int bit = category_index(categories[i]);
-        if (bit < 0) {
-            Text why = {0};
-            text_printf(&why, "categories[%zu] = ", i);
-            text_shown(&why, categories[i], categories[i] ? strlen(categories[i]) : 0, 100);
-            text_printf(&why, " is not allowed; allowed: " CATEGORY_NAMES);
-            return refuse(in, &why);
-        }
-        mask |= 1u << bit;
-    }
-    in->logging_on = on == 1, in->categories = mask;
-    return fmi2OK;
-}
+/* The fmi2 functions (fmi2FreeInstance, fmi2SetDebugLogging, fmi2Terminate: calls.c) -------- */
 
 EXPORT fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean tolerance_defined,
                                       fmi2Real tolerance, fmi2Real start,
@@ -215,13 +127,6 @@ EXPORT fmi2Status fmi2EnterInitializationMode(fmi2Component c) {
 EXPORT fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
     CHECKED("fmi2ExitInitializationMode");
     return finish(in, inner.fmi2ExitInitializationMode(in->inner));
-}
-
-EXPORT fmi2Status fmi2Terminate(fmi2Component c) {
-    Instance *in = c;
-    if (in == NULL) return fmi2Error;
-    if (in->failed) return fmi2OK;           /* allowed after an error: nothing more to do */
-    return finish(in, inner.fmi2Terminate(in->inner));
 }
 
 EXPORT fmi2Status fmi2Reset(fmi2Component c) {
@@ -246,81 +151,20 @@ GETTER_SETTER(fmi2SetReal, const fmi2Real)
 GETTER_SETTER(fmi2SetInteger, const fmi2Integer)
 GETTER_SETTER(fmi2SetBoolean, const fmi2Boolean)
 
-/* A copy of `s` that the slave can read: `s` itself when it is UTF-8 (or NULL, which the slave
- * sees as None), else NOT_UTF8 and the bytes in hex (P7); NULL only when out of memory. */
-static char *readable(const char *s, int *made) {
-    *made = 0;
-    if (s == NULL || utf8_valid(s)) return (char *)s;
-    size_t n = strlen(s), shown = n < 1024 ? n : 1024;
-    char *copy = malloc(sizeof NOT_UTF8 + 2 * shown + 1);
-    if (copy == NULL) return NULL;
-    size_t at = (size_t)sprintf(copy, "%s", NOT_UTF8);
-    for (size_t i = 0; i < shown; i++) at += (size_t)sprintf(copy + at, "%02x", (unsigned char)s[i]);
-    *made = 1;
-    return copy;
-}
-
+/* A String that is not UTF-8 reaches the slave as NOT_UTF8 and its bytes in hex (P7). */
 EXPORT fmi2Status fmi2SetString(fmi2Component c, const fmi2ValueReference vr[], size_t n,
                                 const fmi2String value[]) {
     CHECKED("fmi2SetString");
     ARRAYS("fmi2SetString", vr, value, n);
-    fmi2String *given = calloc(n + 1, sizeof *given);
-    int *made = calloc(n + 1, sizeof *made);
-    fmi2Status status = fmi2Error;
-    size_t i = 0;
-    for (; given != NULL && made != NULL && i < n; i++) {
-        given[i] = readable(value[i], &made[i]);
-        if (value[i] != NULL && given[i] == NULL) break;
-    }
-    if (given != NULL && made != NULL && i == n)
-        status = finish(in, inner.fmi2SetString(in->inner, vr, n, given));
-    else
-        status = refuse_null(in, "fmi2SetString", "a copy of value (out of memory)", n);
-    for (size_t k = 0; made != NULL && given != NULL && k < i; k++)
-        if (made[k]) free((char *)given[k]);
-    free(given), free(made);
+    const char **given = readable_strings(value, n, 0, n + 1);
+    if (given == NULL)
+        return refuse_null(in, "fmi2SetString", "a copy of value (out of memory)", n);
+    fmi2Status status = finish(in, inner.fmi2SetString(in->inner, vr, n, given));
+    readable_strings_free(given, value, n, 0);
     return status;
 }
 
-EXPORT fmi2Status fmi2GetFMUstate(fmi2Component c, fmi2FMUstate *state) {
-    CHECKED("fmi2GetFMUstate");
-    return state_get(in, state);
-}
-
-EXPORT fmi2Status fmi2SetFMUstate(fmi2Component c, fmi2FMUstate state) {
-    Instance *in = c;
-    if (in == NULL) return fmi2Error;
-    fmi2Status status = state_set(in, state);   /* allowed after an error; ends it if it works */
-    in->failed = status > fmi2Warning;
-    return status;
-}
-
-EXPORT fmi2Status fmi2FreeFMUstate(fmi2Component c, fmi2FMUstate *state) {
-    Instance *in = c;
-    if (in == NULL) return fmi2Error;
-    int failed = in->failed;
-    fmi2Status status = state_free(in, state);
-    in->failed |= failed;                    /* bookkeeping: allowed after an error */
-    return status;
-}
-
-EXPORT fmi2Status fmi2SerializedFMUstateSize(fmi2Component c, fmi2FMUstate state, size_t *size) {
-    CHECKED("fmi2SerializedFMUstateSize");
-    return state_size(in, state, size);
-}
-
-EXPORT fmi2Status fmi2SerializeFMUstate(fmi2Component c, fmi2FMUstate state, fmi2Byte bytes[],
-                                        size_t size) {
-    CHECKED("fmi2SerializeFMUstate");
-    return state_serialize(in, state, bytes, size);
-}
-
-EXPORT fmi2Status fmi2DeSerializeFMUstate(fmi2Component c, const fmi2Byte bytes[], size_t size,
-                                          fmi2FMUstate *state) {
-    CHECKED("fmi2DeSerializeFMUstate");
-    return state_deserialize(in, bytes, size, state);
-}
-
+/* The FMU-state calls are in states.c. */
 /* Calls pythonfmu answers with fmi2Error itself (no Python involved). */
 EXPORT fmi2Status fmi2GetDirectionalDerivative(fmi2Component c, const fmi2ValueReference u[],
                                                size_t nu, const fmi2ValueReference z[],

@@ -31,6 +31,7 @@
 #define JOINED_(a, b) a##b
 #define JOINED(a, b) JOINED_(a, b)
 #define MODEL STRING_OF(MODEL_IDENTIFIER)  /* "PipePlug": the FMU's name in log lines */
+#define FMI_FUNCTION(name) JOINED(FMI_PREFIX, name)   /* the version's call: fmi2Reset, ... */
 #define INNER_BINARY MODEL "_pythonfmu.so"
 #define PYTHON_VARIABLE "PIPEPLUG_PYTHON"   /* one variable for all of the project's FMUs */
 #define TIMEOUT_VARIABLE "PIPEPLUG_PYTHON_TIMEOUT"
@@ -57,8 +58,15 @@ int utf8_valid(const char *s);
 /* FNV-1a, 64 bits, of `n` bytes, continuing from `hash` (start: FNV_START). */
 #define FNV_START 0xcbf29ce484222325ULL
 uint64_t fnv1a(uint64_t hash, const void *data, size_t n);
+/* Strings the slave can read (P7): `slots` of them, NULL but for `values` (n of them) from
+ * `offset` on, each as it is when it is UTF-8 (or NULL, which the slave sees as None), else a
+ * copy: NOT_UTF8 and its bytes in hex. NULL when out of memory. */
+const char **readable_strings(const char *const values[], size_t n, size_t offset, size_t slots);
+/* Free `given` of readable_strings (NULL: nothing) and the copies it made. */
+void readable_strings_free(const char **given, const char *const values[], size_t n,
+                           size_t offset);
 
-/* Instances (log.c; their FMI functions in loader.c, loader3.c) ------------------------------- */
+/* Instances (log.c; their FMI functions in loader.c, loader3.c, calls.c, states.c) ---------- */
 typedef struct { Status status; char *category, *message; } Line;
 
 typedef struct Instance {
@@ -91,13 +99,33 @@ Status refuse(Instance *in, Text *why);
 /* Give the buffered lines of `in` to the host; the status the host sees. */
 Status finish(Instance *in, Status status);
 
+/* Checks of every call and the calls both versions have alike (calls.c) --------------------- */
+/* The checks before most calls: an instance, not after an error (the calls allowed then, such
+ * as fmi2SetFMUstate, check less). */
+#define CHECKED(call) \
+    Instance *in = c; \
+    if (in == NULL) return ST_ERROR; \
+    if (in->failed) return refuse_after_error(in, call)
+Status refuse_after_error(Instance *in, const char *call);
+/* Refuse a NULL pointer argument `name` of `call` (an array of n elements when n > 0). */
+Status refuse_null(Instance *in, const char *call, const char *name, size_t n);
+/* Refuse `n` elements of `name`, more than MAX_COUNT. */
+Status refuse_count(Instance *in, const char *call, const char *name, size_t n);
+/* What makes the instance name `name` unusable, as one line in `why`; 0 when it is usable. */
+int name_refusal(const char *name, Text *why);
+/* `in` once pythonfmu's instance is made; else NULL, `in` freed. */
+Instance *instance_made(Instance *in);
+/* Free `in` itself, its name and lines (not pythonfmu's instance). */
+void instance_free_memory(Instance *in);
+
 /* Finding a Python (python.c) -------------------------------------------------------------- */
 /* Make a Python visible to pythonfmu's binary; 0 on success, else one line in `why`. */
 int ensure_python(Text *why);
 
 /* pythonfmu's binary and the exit guard (inner.c) -------------------------------------------- */
-/* Load pythonfmu's binary beside this one into `inner`; 0 on success, else a line in `why`. */
-int load_inner(Text *why);
+/* Make a Python visible and load pythonfmu's binary beside this one into `inner`, once per
+ * process; 1 when it is loaded, else 0 after one line to the host of `in`. */
+int inner_ready(const Instance *in);
 
 /* The resource folder (resources.c) ------------------------------------------------------- */
 /* The URI to give pythonfmu for the host's `location` ("file://" + a checked folder); 0 on
@@ -106,13 +134,7 @@ int resource_uri(const char *location, char *uri, size_t size, Text *why);
 /* A hash of the FMU and build whose resources are used: modelIdentifier and slave module. */
 extern uint64_t build_identity;
 
-/* FMU states (states.c) -------------------------------------------------------------------- */
-Status state_get(Instance *in, FmuState *state);
-Status state_set(Instance *in, FmuState state);
-Status state_free(Instance *in, FmuState *state);
-Status state_size(Instance *in, FmuState state, size_t *size);
-Status state_serialize(Instance *in, FmuState state, Byte bytes[], size_t size);
-Status state_deserialize(Instance *in, const Byte bytes[], size_t size, FmuState *state);
+/* FMU states (states.c: the version's FMU-state calls) --------------------------------------- */
 /* Free every state obtained through `in` (before the instance itself is freed). */
 void states_of_instance_free(Instance *in);
 

@@ -9,7 +9,8 @@
  * (log.c: pythonfmu3's logging stays on into the loader; Errors, Discards and Warnings always
  * reach the host, other lines with debug logging on; a refusal of the slave, which pythonfmu3
  * reports as fmi3Fatal with an empty category, reaches the host as fmi3Error with its own line
- * and category). What it adds for FMI 3.0:
+ * and category), and calls.c (the checks of every call, fmi3FreeInstance, fmi3SetDebugLogging,
+ * fmi3Terminate; states.c: the FMU-state calls). What it adds for FMI 3.0:
  *
  * - fmi3InstantiateCoSimulation returns NULL after one line when it cannot instantiate
  *   (arguments, resources, no Python), and refuses eventModeUsed and intermediate variables
@@ -35,13 +36,8 @@
 #include "loader.h"
 
 #include <limits.h>
-#include <pthread.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-
-static pthread_mutex_t load_lock = PTHREAD_MUTEX_INITIALIZER;
-static int loaded;                          /* inner is complete */
 
 /* Logging (the rest is log.c) ------------------------------------------------------------- */
 static void buffer_line(fmi3InstanceEnvironment env, fmi3Status status, fmi3String category,
@@ -57,13 +53,8 @@ void to_host(const Instance *in, fmi3Status status, const char *category, const 
 /* What makes the arguments unusable, as one line in `why`; 0 when they are usable. */
 static int instantiate_refusal(fmi3String name, fmi3Boolean event_mode, size_t n_required,
                                Text *why) {
-    if (name == NULL) {
-        text_printf(why, "instanceName = NULL is not allowed; allowed: a string (FMI 3.0: the "
-                    "instance's name)");
-    } else if (!utf8_valid(name)) {
-        text_printf(why, "instanceName = ");
-        text_shown(why, name, strlen(name), 200);
-        text_printf(why, " is not allowed; allowed: UTF-8 text");
+    if (name_refusal(name, why) != 0) {
+        return -1;
     } else if (event_mode) {
         text_printf(why, "eventModeUsed = true is not allowed; allowed: false (" MODEL " has no "
                     "event mode)");
@@ -74,10 +65,6 @@ static int instantiate_refusal(fmi3String name, fmi3Boolean event_mode, size_t n
         return 0;
     }
     return -1;
-}
-
-static void free_instance_memory(Instance *in) {
-    free(in->lines), free(in->name), free(in);
 }
 
 EXPORT const char *fmi3GetVersion(void) { return "3.0"; }
@@ -96,28 +83,17 @@ EXPORT fmi3Instance fmi3InstantiateCoSimulation(
     if (instantiate_refusal(name, event_mode, n_required, &why) != 0
             || resource_uri(resources, uri, sizeof uri, &why) != 0) {
         refuse(in, &why);
-        free_instance_memory(in);
+        instance_free_memory(in);
         return NULL;
     }
     in->name = strdup(name);
     in->logging_on = logging_on;
-    pthread_mutex_lock(&load_lock);
-    int ready = loaded || (ensure_python(&why) == 0 && load_inner(&why) == 0);
-    loaded = ready;
-    pthread_mutex_unlock(&load_lock);
-    if (ready) {        /* pythonfmu3 logs everything; finish() filters for the host */
+    if (inner_ready(in)) {   /* pythonfmu3 logs everything; finish() filters for the host */
         in->inner = inner.fmi3InstantiateCoSimulation(name, token, uri, visible, true, false,
                                                       false, NULL, 0, in, buffer_line, NULL);
         finish(in, fmi3OK);
-    } else {
-        host_log(in, fmi3Error, why.data ? why.data : MODEL " cannot start");
     }
-    free(why.data);
-    if (in->inner == NULL) {
-        free_instance_memory(in);
-        return NULL;
-    }
-    return in;
+    return instance_made(in);
 }
 
 /* Another kind of instance: NULL after one line. */
@@ -150,41 +126,9 @@ EXPORT fmi3Instance fmi3InstantiateScheduledExecution(
     return no_instance(env, logger, "fmi3InstantiateScheduledExecution");
 }
 
-EXPORT void fmi3FreeInstance(fmi3Instance c) {
-    Instance *in = c;
-    if (in == NULL) return;
-    states_of_instance_free(in);
-    inner.fmi3FreeInstance(in->inner);
-    finish(in, fmi3OK);
-    free_instance_memory(in);
-}
-
-/* Checks before forwarding ------------------------------------------------------------------ */
-static fmi3Status refuse_after_error(Instance *in, const char *call) {
-    Text why = {0};
-    text_printf(&why, "%s is not allowed after an error; allowed: fmi3SetFMUState, fmi3Reset, "
-                "fmi3Terminate, fmi3FreeInstance", call);
-    return refuse(in, &why);
-}
-
-static fmi3Status refuse_null(Instance *in, const char *call, const char *name, size_t n) {
-    Text why = {0};
-    if (n) text_printf(&why, "%s = NULL is not allowed with %zu elements in %s; allowed: an "
-                       "array of that many elements", name, n, call);
-    else text_printf(&why, "%s = NULL is not allowed in %s; allowed: a pointer to a result",
-                     name, call);
-    return refuse(in, &why);
-}
-
-static fmi3Status refuse_count(Instance *in, const char *call, const char *name, size_t n) {
-    Text why = {0};
-    text_printf(&why, "%s = %zu is not allowed in %s; allowed: <= %d", name, n, call,
-                INT_MAX - HEADER_VRS);
-    return refuse(in, &why);
-}
-
-/* A call the FMI 3.0 state machine does not allow in configuration mode. */
-static fmi3Status refuse_configuring(Instance *in, const char *call) {
+/* Checks before forwarding (the checks of every call are in calls.c) ---------------------- */
+/* A call the FMI 3.0 state machine does not allow in configuration mode (fmi3.h). */
+fmi3Status refuse_configuring(Instance *in, const char *call) {
     Text why = {0};
     text_printf(&why, "%s is not allowed in configuration mode; allowed: getting and setting "
                 "values, fmi3ExitConfigurationMode, fmi3Reset, fmi3FreeInstance (the FMI 3.0 "
@@ -199,19 +143,12 @@ static fmi3Status refuse_call(Instance *in, const char *call, const char *allowe
     return refuse(in, &why);
 }
 
-#define CHECKED(call) \
-    Instance *in = c; \
-    if (in == NULL) return fmi3Error; \
-    if (in->failed) return refuse_after_error(in, call)
-#define NOT_CONFIGURING(call) \
-    if (in->configuring) return refuse_configuring(in, call)
 /* Arrays of value references and values given, counts a C int (with the header) holds. */
 #define ARRAYS(call, vr, nvr, values, n) \
     if ((nvr) > 0 && (vr) == NULL) return refuse_null(in, call, "valueReferences", nvr); \
     if ((n) > 0 && (values) == NULL) return refuse_null(in, call, "values", n); \
-    if ((nvr) > (size_t)(INT_MAX - HEADER_VRS)) \
-        return refuse_count(in, call, "nValueReferences", nvr); \
-    if ((n) > (size_t)(INT_MAX - HEADER_VRS)) return refuse_count(in, call, "nValues", n)
+    if ((nvr) > (size_t)MAX_COUNT) return refuse_count(in, call, "nValueReferences", nvr); \
+    if ((n) > (size_t)MAX_COUNT) return refuse_count(in, call, "nValues", n)
 
 /* The value references pythonfmu3 gets: the header (fmi3.h), the host's, then `pad` more
  * COUNT_MARKs; NULL when out of memory. */
@@ -231,29 +168,7 @@ static fmi3Status out_of_memory(Instance *in, const char *call) {
     return refuse(in, &why);
 }
 
-/* The fmi3 functions ------------------------------------------------------------------------ */
-EXPORT fmi3Status fmi3SetDebugLogging(fmi3Instance c, fmi3Boolean on, size_t n,
-                                      const fmi3String categories[]) {
-    Instance *in = c;
-    if (in == NULL) return fmi3Error;
-    if (n > 0 && categories == NULL) return refuse_null(in, "fmi3SetDebugLogging", "categories",
-                                                        n);
-    unsigned mask = 0;
-    for (size_t i = 0; i < n; i++) {
-        int bit = category_index(categories[i]);
-        if (bit < 0) {
-            Text why = {0};
-            text_printf(&why, "categories[%zu] = ", i);
-            text_shown(&why, categories[i], categories[i] ? strlen(categories[i]) : 0, 100);
-            text_printf(&why, " is not allowed; allowed: " CATEGORY_NAMES);
-            return refuse(in, &why);
-        }
-        mask |= 1u << bit;
-    }
-    in->logging_on = on, in->categories = mask;
-    return fmi3OK;
-}
-
+/* The fmi3 functions (fmi3FreeInstance, fmi3SetDebugLogging, fmi3Terminate: calls.c) ------- */
 EXPORT fmi3Status fmi3EnterConfigurationMode(fmi3Instance c) {
     CHECKED("fmi3EnterConfigurationMode");
     if (in->configuring || in->initialized)
@@ -295,14 +210,6 @@ EXPORT fmi3Status fmi3ExitInitializationMode(fmi3Instance c) {
     return finish(in, inner.fmi3ExitInitializationMode(in->inner));
 }
 
-EXPORT fmi3Status fmi3Terminate(fmi3Instance c) {
-    Instance *in = c;
-    if (in == NULL) return fmi3Error;
-    if (in->failed) return fmi3OK;           /* allowed after an error: nothing more to do */
-    NOT_CONFIGURING("fmi3Terminate");
-    return finish(in, inner.fmi3Terminate(in->inner));
-}
-
 EXPORT fmi3Status fmi3Reset(fmi3Instance c) {
     Instance *in = c;
     if (in == NULL) return fmi3Error;
@@ -334,44 +241,22 @@ FORWARDED(fmi3SetInt32, const fmi3Int32)
 FORWARDED(fmi3SetUInt64, const fmi3UInt64)
 FORWARDED(fmi3SetBoolean, const fmi3Boolean)
 
-/* A copy of `s` that the slave can read: `s` itself when it is UTF-8 (or NULL, which the slave
- * sees as None), else NOT_UTF8 and the bytes in hex (P7); NULL only when out of memory. */
-static char *readable(const char *s, int *made) {
-    *made = 0;
-    if (s == NULL || utf8_valid(s)) return (char *)s;
-    size_t n = strlen(s), shown = n < 1024 ? n : 1024;
-    char *copy = malloc(sizeof NOT_UTF8 + 2 * shown + 1);
-    if (copy == NULL) return NULL;
-    size_t at = (size_t)sprintf(copy, "%s", NOT_UTF8);
-    for (size_t i = 0; i < shown; i++) at += (size_t)sprintf(copy + at, "%02x", (unsigned char)s[i]);
-    *made = 1;
-    return copy;
-}
-
 /* pythonfmu3 makes one String per value reference it is given and fills nValues of them: the
  * loader gives it as many value references (padded with COUNT_MARKs) as Strings, the header's
- * three Strings NULL. */
+ * three Strings NULL. A String that is not UTF-8 reaches the slave as NOT_UTF8 and its bytes in
+ * hex (P7). */
 EXPORT fmi3Status fmi3SetString(fmi3Instance c, const fmi3ValueReference vr[], size_t nvr,
                                 const fmi3String values[], size_t n) {
     CHECKED("fmi3SetString");
     ARRAYS("fmi3SetString", vr, nvr, values, n);
     size_t slots = HEADER_VRS + (nvr > n ? nvr : n);
     fmi3ValueReference *all = with_header(vr, nvr, n, slots - HEADER_VRS - nvr);
-    fmi3String *given = calloc(slots, sizeof *given);
-    int *made = calloc(slots, sizeof *made);
-    fmi3Status status;
-    size_t i = 0;
-    for (; all != NULL && given != NULL && made != NULL && i < n; i++) {
-        given[HEADER_VRS + i] = readable(values[i], &made[HEADER_VRS + i]);
-        if (values[i] != NULL && given[HEADER_VRS + i] == NULL) break;
-    }
-    if (all != NULL && given != NULL && made != NULL && i == n)
-        status = finish(in, inner.fmi3SetString(in->inner, all, slots, given, slots));
-    else
-        status = out_of_memory(in, "fmi3SetString");
-    for (size_t k = 0; made != NULL && given != NULL && k < slots; k++)
-        if (made[k]) free((char *)given[k]);
-    free(all), free(given), free(made);
+    const char **given = readable_strings(values, n, HEADER_VRS, slots);
+    fmi3Status status = all != NULL && given != NULL
+        ? finish(in, inner.fmi3SetString(in->inner, all, slots, given, slots))
+        : out_of_memory(in, "fmi3SetString");
+    readable_strings_free(given, values, n, HEADER_VRS);
+    free(all);
     return status;
 }
 
@@ -433,47 +318,7 @@ EXPORT fmi3Status fmi3SetClock(fmi3Instance c, const fmi3ValueReference vr[], si
     return no_variables(in, "fmi3SetClock", "Clock", vr, nvr);
 }
 
-/* FMU states ------------------------------------------------------------------------------- */
-EXPORT fmi3Status fmi3GetFMUState(fmi3Instance c, fmi3FMUState *state) {
-    CHECKED("fmi3GetFMUState");
-    NOT_CONFIGURING("fmi3GetFMUState");
-    return state_get(in, state);
-}
-
-EXPORT fmi3Status fmi3SetFMUState(fmi3Instance c, fmi3FMUState state) {
-    Instance *in = c;
-    if (in == NULL) return fmi3Error;
-    NOT_CONFIGURING("fmi3SetFMUState");
-    fmi3Status status = state_set(in, state);   /* allowed after an error; ends it if it works */
-    in->failed = status > fmi3Warning;
-    return status;
-}
-
-EXPORT fmi3Status fmi3FreeFMUState(fmi3Instance c, fmi3FMUState *state) {
-    Instance *in = c;
-    if (in == NULL) return fmi3Error;
-    int failed = in->failed;
-    fmi3Status status = state_free(in, state);
-    in->failed |= failed;                    /* bookkeeping: allowed after an error */
-    return status;
-}
-
-EXPORT fmi3Status fmi3SerializedFMUStateSize(fmi3Instance c, fmi3FMUState state, size_t *size) {
-    CHECKED("fmi3SerializedFMUStateSize");
-    return state_size(in, state, size);
-}
-
-EXPORT fmi3Status fmi3SerializeFMUState(fmi3Instance c, fmi3FMUState state, fmi3Byte bytes[],
-                                        size_t size) {
-    CHECKED("fmi3SerializeFMUState");
-    return state_serialize(in, state, bytes, size);
-}
-
-EXPORT fmi3Status fmi3DeserializeFMUState(fmi3Instance c, const fmi3Byte bytes[], size_t size,
-                                          fmi3FMUState *state) {
-    CHECKED("fmi3DeserializeFMUState");
-    return state_deserialize(in, bytes, size, state);
-}
+/* The FMU-state calls are in states.c (none in configuration mode). */
 
 /* Stepping --------------------------------------------------------------------------------- */
 EXPORT fmi3Status fmi3DoStep(fmi3Instance c, fmi3Float64 t, fmi3Float64 h,

@@ -13,6 +13,9 @@
  * bytes of another FMU, build or FMI version, of the wrong length or whose hash differs;
  * serializing refuses a buffer smaller than the state. What the bytes hold is checked by the
  * slave when it is set. The calls and words in lines are the version's (fmi2.h, fmi3.h).
+ *
+ * The calls (fmi2GetFMUstate, fmi3GetFMUState, ...) are the version's by name: a state may be
+ * set, and freed, after an error; FMI 3.0 refuses states in configuration mode.
  */
 #include "loader.h"
 
@@ -114,7 +117,7 @@ static Status keep(Instance *in, FmuState *state, FmuState fresh) {
     return refuse(in, &why);
 }
 
-Status state_get(Instance *in, FmuState *state) {
+static Status state_get(Instance *in, FmuState *state) {
     if (state == NULL)
         return refuse_state(in, GET_NAME, STATE_WORD, NULL, "a pointer to a variable");
     FmuState fresh = NULL;
@@ -123,13 +126,13 @@ Status state_get(Instance *in, FmuState *state) {
     return keep(in, state, fresh);
 }
 
-Status state_set(Instance *in, FmuState state) {
+static Status state_set(Instance *in, FmuState state) {
     Record *r = state != NULL ? find(state) : NULL;
     if (r == NULL) return refuse_state(in, SET_NAME, STATE_WORD, state, LIVE);
     return finish(in, inner.STATE_SET(in->inner, r->inner));
 }
 
-Status state_free(Instance *in, FmuState *state) {
+static Status state_free(Instance *in, FmuState *state) {
     if (state == NULL)
         return refuse_state(in, FREE_NAME, STATE_WORD, NULL, "a pointer to a state");
     if (*state == NULL) return ST_OK;                      /* FMI: ignored */
@@ -163,7 +166,7 @@ static Status payload_size(Instance *in, Record *r, size_t *n) {
     return finish(in, inner.STATE_SIZE(in->inner, r->inner, n));
 }
 
-Status state_size(Instance *in, FmuState state, size_t *size) {
+static Status state_size(Instance *in, FmuState state, size_t *size) {
     Record *r = state != NULL ? find(state) : NULL;
     if (r == NULL) return refuse_state(in, SIZE_NAME, STATE_WORD, state, LIVE);
     if (size == NULL)
@@ -185,7 +188,7 @@ static uint64_t get64(const Byte *at) {
     return value;
 }
 
-Status state_serialize(Instance *in, FmuState state, Byte bytes[], size_t size) {
+static Status state_serialize(Instance *in, FmuState state, Byte bytes[], size_t size) {
     Record *r = state != NULL ? find(state) : NULL;
     if (r == NULL) return refuse_state(in, SERIALIZE_NAME, STATE_WORD, state, LIVE);
     if (bytes == NULL)
@@ -229,8 +232,8 @@ static const char *framing_error(const Byte bytes[], size_t size) {
     return NULL;
 }
 
-Status state_deserialize(Instance *in, const Byte bytes[], size_t size,
-                             FmuState *state) {
+static Status state_deserialize(Instance *in, const Byte bytes[], size_t size,
+                                FmuState *state) {
     if (state == NULL)
         return refuse_state(in, DESERIALIZE_NAME, STATE_WORD, NULL,
                             "a pointer to a variable");
@@ -249,4 +252,44 @@ Status state_deserialize(Instance *in, const Byte bytes[], size_t size,
                                                                  size - HEADER, &fresh));
     if (status > ST_WARNING) return status;
     return keep(in, state, fresh);
+}
+
+/* The calls ------------------------------------------------------------------------------------ */
+EXPORT Status STATE_GET(void *c, FmuState *state) {
+    CHECKED(GET_NAME);
+    NOT_CONFIGURING(GET_NAME);
+    return state_get(in, state);
+}
+
+EXPORT Status STATE_SET(void *c, FmuState state) {
+    Instance *in = c;
+    if (in == NULL) return ST_ERROR;
+    NOT_CONFIGURING(SET_NAME);
+    Status status = state_set(in, state);      /* allowed after an error; ends it if it works */
+    in->failed = status > ST_WARNING;
+    return status;
+}
+
+EXPORT Status STATE_FREE(void *c, FmuState *state) {
+    Instance *in = c;
+    if (in == NULL) return ST_ERROR;
+    int failed = in->failed;
+    Status status = state_free(in, state);
+    in->failed |= failed;                      /* bookkeeping: allowed after an error */
+    return status;
+}
+
+EXPORT Status STATE_SIZE(void *c, FmuState state, size_t *size) {
+    CHECKED(SIZE_NAME);
+    return state_size(in, state, size);
+}
+
+EXPORT Status STATE_SERIALIZE(void *c, FmuState state, Byte bytes[], size_t size) {
+    CHECKED(SERIALIZE_NAME);
+    return state_serialize(in, state, bytes, size);
+}
+
+EXPORT Status STATE_DESERIALIZE(void *c, const Byte bytes[], size_t size, FmuState *state) {
+    CHECKED(DESERIALIZE_NAME);
+    return state_deserialize(in, bytes, size, state);
 }

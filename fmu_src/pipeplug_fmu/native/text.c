@@ -1,4 +1,5 @@
-/* Text helpers of the loader: growing strings, values shown in log lines, UTF-8, a hash. */
+/* Text helpers of the loader: growing strings, values shown in log lines, UTF-8, a hash, strings
+ * the slave can read. */
 #include "loader.h"
 
 #include <stdarg.h>
@@ -77,4 +78,35 @@ uint64_t fnv1a(uint64_t hash, const void *data, size_t n) {
     const unsigned char *p = data;
     for (size_t i = 0; i < n; i++) hash = (hash ^ p[i]) * 0x100000001b3ULL;
     return hash;
+}
+
+/* A copy of `s` that the slave can read (see readable_strings); NULL only when out of memory. */
+static const char *readable(const char *s) {
+    if (s == NULL || utf8_valid(s)) return s;
+    size_t n = strlen(s), shown = n < 1024 ? n : 1024;
+    char *copy = malloc(sizeof NOT_UTF8 + 2 * shown + 1);
+    if (copy == NULL) return NULL;
+    size_t at = (size_t)sprintf(copy, "%s", NOT_UTF8);
+    for (size_t i = 0; i < shown; i++) at += (size_t)sprintf(copy + at, "%02x", (unsigned char)s[i]);
+    return copy;
+}
+
+const char **readable_strings(const char *const values[], size_t n, size_t offset,
+                              size_t slots) {
+    const char **given = calloc(slots, sizeof *given);
+    for (size_t i = 0; given != NULL && i < n; i++) {
+        given[offset + i] = readable(values[i]);
+        if (values[i] != NULL && given[offset + i] == NULL) {
+            readable_strings_free(given, values, i, offset);
+            return NULL;
+        }
+    }
+    return given;
+}
+
+void readable_strings_free(const char **given, const char *const values[], size_t n,
+                           size_t offset) {
+    for (size_t i = 0; given != NULL && i < n; i++)
+        if (given[offset + i] != values[i]) free((char *)given[offset + i]);
+    free(given);
 }
