@@ -25,10 +25,10 @@ import numpy as np
 
 from ..contact.coulomb import SLACK, one_contact, two_contacts
 from ..contact.face import face_contacts, one_sided
-from .damped_fd import damping_of, step_damped_alone, step_damped_pair
 from ..contact.outer import contact_length, face_on, limit, outer_contact_for
 from ..interface import ModelBase, Outputs
 from ..params import ParameterError
+from .damped_fd import damping_of, step_damped_alone, step_damped_pair
 from .stress import axial_extremes
 
 __all__ = ["RigidFd", "internal_steps"]

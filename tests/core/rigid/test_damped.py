@@ -7,12 +7,12 @@ import math
 
 import numpy as np
 import pytest
-from pipeplug_references.damping_ivp import simulate_damped
 
 from pipeplug import build_model
 from pipeplug.params import ParameterError
 from pipeplug.rigid.damped import RigidDamped
 from pipeplug.rigid.exact import RigidExact
+from pipeplug_references.damping_ivp import simulate_damped
 
 R1, H1, RHO1, L1 = 0.035, 0.003, 7800.0, 1.0
 P1, S1 = 2 * math.pi * (R1 + H1), math.pi * ((R1 + H1) ** 2 - R1 ** 2)
