@@ -53,10 +53,14 @@ def build_model(params: Params | Mapping[str, float] | None = None,
         _check_rigid_ram(params, options)
     if params.has_face:
         _check_face(params, options)
+    if params.has_damping:
+        _check_damping(params, options)
     if options.elastic:
         return _variant("elastic")(params, options, profile_points=profile_points)
     if options.solver == "fd":
         model = _variant("fd")(params, options)
+    elif params.has_damping:          # Smith damping: pieces of exponentials
+        model = _variant("damped")(params, options)
     else:
         model = _variant("exact")(params, options, compiled)
     if profile_points:
@@ -87,7 +91,12 @@ def _exact() -> type:
     return RigidExact
 
 
-_IMPORTS = {"elastic": _elastic, "fd": _fd, "exact": _exact}
+def _damped() -> type:
+    from .rigid.damped import RigidDamped
+    return RigidDamped
+
+
+_IMPORTS = {"elastic": _elastic, "fd": _fd, "exact": _exact, "damped": _damped}
 _CLASSES: dict[str, type] = {}        # the variants imported so far
 
 
@@ -121,3 +130,20 @@ def _check_face(params: Params, options: Options) -> None:
     if params.has_ram and not options.elastic:
         raise ParameterError(name, getattr(params, name), "0 with a ram (ram_mass > 0) in the "
                              "rigid models")
+
+
+def _check_damping(params: Params, options: Options) -> None:
+    """Refuse Smith damping where a model does not carry it: with a ram in the rigid models,
+    and in model II's exact solver (the shaft's damping force J_shaft P1 tau1 U1 U1' is not
+    linear: no closed-form pieces; the fd scheme carries it)."""
+    name = "J_shaft" if params.J_shaft > 0.0 else "J_face"
+    value = getattr(params, name)
+    if options.elastic:
+        raise ParameterError(name, value, "0 in the elastic model (elastic = true): the "
+                             "rigid models carry Smith damping")
+    if params.has_ram:
+        raise ParameterError(name, value, "0 with a ram (ram_mass > 0) in the rigid models")
+    if options.contact_growth and options.solver == "exact":
+        raise ParameterError(name, value, "0 with contact_growth and solver = 'exact' (model "
+                             "II's damped shaft friction J_shaft P1 tau1 U1 U1' is not linear, "
+                             "so its pieces are not in closed form; solver = 'fd' carries it)")

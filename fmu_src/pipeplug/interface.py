@@ -87,6 +87,9 @@ OUTPUTS: tuple[Output, ...] = (
     Output("W_face", "J", "Real", "work done against the end resistance of the soil on the "
                                   "pipe's front end and the plug's front face since t = 0 "
                                   "(>= 0, never decreases; 0 with q_face = q_plug_face = 0)"),
+    Output("W_damping", "J", "Real", "energy dissipated by the Smith damping of the shaft "
+                                     "friction and the end resistances since t = 0 (>= 0, "
+                                     "never decreases; 0 with J_shaft = J_face = 0)"),
 )
 
 OUTPUT_NAMES: tuple[str, ...] = tuple(o.name for o in OUTPUTS)
@@ -100,7 +103,7 @@ PER_STEP: tuple[str, ...] = ("stress_min", "stress_max")
 #: decrease). Effects added later add their terms here.
 LEDGER_SOURCES: tuple[str, ...] = ("W_input", "W_ram")
 LEDGER_TERMS: tuple[str, ...] = ("E_kinetic", "E_strain", "W_friction", "W_numerical",
-                                 "W_cushion", "W_face")
+                                 "W_cushion", "W_face", "W_damping")
 
 
 def ledger_residual(values) -> float:

@@ -13,6 +13,14 @@ Derived quantities (paper, section 1, with docs/corrections.md A6: P1 outer, P2 
     M2 = rho2 S2 L2                plug mass                          [kg]
     F_face = q_face S1             end resistance on the steel annulus [N]
     F_plug_face = q_plug_face S2   end resistance on the plug's face  [N]
+    C_shaft = J_shaft F1           damping of the outer shaft friction [N s/m]
+    C_inner = J_shaft F2           damping of the plug's inner friction [N s/m]
+    C_face = J_face F_face         damping of the annulus' end resistance [N s/m]
+    C_plug_face = J_face F_plug_face   damping of the plug face's     [N s/m]
+
+Smith damping (docs/physics.md, "Smith damping"): a sliding resistance R grows to R (1 + J v)
+with the sliding speed v; ``J_shaft`` multiplies the shaft friction (outer and the plug's
+inner), ``J_face`` the end resistances.
 """
 from __future__ import annotations
 
@@ -110,6 +118,11 @@ PARAMETERS: tuple[Parameter, ...] = (
               "while it retreats); 0: absent", 0.0),
     Parameter("q_plug_face", "Pa", 0.0, "end resistance of the soil on the plug's front face S2 "
               "while the plug advances into it (the same law); 0: absent", 0.0),
+    Parameter("J_shaft", "s/m", 0.0, "Smith damping of the shaft friction: a sliding contact "
+              "resists with P L tau (1 + J_shaft v), v its sliding speed (the soil on the "
+              "pipe's outer face, the plug on its inner face); 0: absent", 0.0, upper=1e3),
+    Parameter("J_face", "s/m", 0.0, "Smith damping of the end resistances: an advancing end "
+              "resists with q S (1 + J_face v), v its speed; 0: absent", 0.0, upper=1e3),
 )
 
 _BY_NAME = {p.name: p for p in PARAMETERS}
@@ -151,6 +164,10 @@ LIMITS: tuple[Limit, ...] = (
     Limit("F2", "P2*L2*tau2", "N", 0.0, LARGEST, "tau2"),
     Limit("F_face", "q_face*S1", "N", 0.0, LARGEST, "q_face"),
     Limit("F_plug_face", "q_plug_face*S2", "N", 0.0, LARGEST, "q_plug_face"),
+    Limit("C_shaft", "J_shaft*P1*L1*tau1", "N s/m", 0.0, LARGEST, "J_shaft"),
+    Limit("C_inner", "J_shaft*P2*L2*tau2", "N s/m", 0.0, LARGEST, "J_shaft"),
+    Limit("C_face", "J_face*q_face*S1", "N s/m", 0.0, LARGEST, "J_face"),
+    Limit("C_plug_face", "J_face*q_plug_face*S2", "N s/m", 0.0, LARGEST, "J_face"),
     Limit("c1", "sqrt(E1/rho1)", "m/s", 1e-100, LARGEST, "E1", "elastic"),
     Limit("c2", "sqrt(E2/rho2)", "m/s", 1e-100, LARGEST, "E2", "elastic"),
     Limit("cells", "L1/dx", "cells", 1.0, 1e6, "dx", "elastic"),
@@ -216,6 +233,34 @@ class _Formulas:
         """True when an end resistance acts (q_face > 0, or q_plug_face > 0 on a coupled
         plug)."""
         return self.q_face > 0.0 or (self.q_plug_face > 0.0 and self.has_plug)
+
+    @property
+    def C_shaft(self) -> float:
+        """Damping coefficient of the outer shaft friction, J_shaft F1 [N s/m]."""
+        return self.J_shaft * self.F1
+
+    @property
+    def C_inner(self) -> float:
+        """Damping coefficient of the plug's inner friction, J_shaft F2 [N s/m]."""
+        return self.J_shaft * self.F2
+
+    @property
+    def C_face(self) -> float:
+        """Damping coefficient of the annulus' end resistance, J_face q_face S1 [N s/m]."""
+        return self.J_face * self.F_face
+
+    @property
+    def C_plug_face(self) -> float:
+        """Damping coefficient of the plug face's end resistance, J_face q_plug_face S2
+        [N s/m]."""
+        return self.J_face * self.F_plug_face
+
+    @property
+    def has_damping(self) -> bool:
+        """True when Smith damping acts on a resistance that is there (J_shaft with shaft
+        friction, J_face with an end resistance)."""
+        return ((self.J_shaft > 0.0 and (self.tau1 > 0.0 or self.has_plug))
+                or (self.J_face > 0.0 and self.has_face))
 
     @property
     def has_plug(self) -> bool:

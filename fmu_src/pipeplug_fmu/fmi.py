@@ -31,7 +31,8 @@ INPUTS = (
 #: SI base-unit exponents (and factor) of every unit used (for <UnitDefinitions>).
 UNITS = {"m": {"m": 1}, "s": {"s": 1}, "m/s": {"m": 1, "s": -1}, "kg/m3": {"kg": 1, "m": -3},
          "N": {"kg": 1, "m": 1, "s": -2}, "Pa": {"kg": 1, "m": -1, "s": -2},
-         "J": {"kg": 1, "m": 2, "s": -2}, "kg": {"kg": 1}, "N/m": {"kg": 1, "s": -2}, "1": {},
+         "J": {"kg": 1, "m": 2, "s": -2}, "kg": {"kg": 1}, "N/m": {"kg": 1, "s": -2},
+         "s/m": {"s": 1, "m": -1}, "1": {},
          "1/min": {"s": -1, "factor": 1.0 / 60.0}}
 
 #: The default experiment written into modelDescription.xml: (start [s], stop [s], step [s]).

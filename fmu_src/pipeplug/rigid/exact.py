@@ -238,7 +238,7 @@ class RigidExact(ModelBase):
         if loads.shape != times.shape:
             loads = np.broadcast_to(loads, times.shape).copy()
         rows, filled = _rows(names)
-        table = np.empty((filled, len(times)))
+        table = np.zeros((filled, len(times)))    # W_damping, which no function writes: 0
         code, done = self._sample(self._st, self._par, self._log, loads, times, table, 0)
         rounds = 0
         while code == stepping.LOG_FULL:
@@ -252,7 +252,7 @@ class RigidExact(ModelBase):
         """The contract's outputs at the current time."""
         out = self._outputs(self._st, self._par, self._st[TIME])
         return Outputs._make((*out[:21], out[21] != 0.0, int(out[22]), int(out[23]),
-                              out[24]))
+                              out[24], 0.0))      # W_damping: no damping in this solver
 
     def at_rest(self) -> bool:
         """Both bodies stuck with no load (and a ram off the head, not coming back): a step

@@ -28,12 +28,13 @@ from ..contact.face import face_contacts, one_sided
 from ..contact.outer import contact_length, face_on, limit, outer_contact_for
 from ..interface import ModelBase, Outputs
 from ..params import ParameterError
+from .damped_fd import damping_of, step_damped_alone, step_damped_pair
 from .stress import axial_extremes
 
 __all__ = ["RigidFd", "internal_steps"]
 
 _STATE_KEYS = ("time", "U1", "V1", "U2", "V2", "W_in", "W_outer", "W_inner", "W_num", "f1", "f2",
-               "s1", "s2", "p_max", "q", "W_face", "face1")
+               "s1", "s2", "p_max", "q", "W_face", "face1", "W_damp")
 # Velocities carry round-off of the largest momentum the run has seen: a trial momentum within
 # this share of it from a friction limit sticks (else a body whose load equals its limit
 # slides on forever at 1e-13 m/s after a grazing stop).
@@ -65,7 +66,10 @@ class RigidFd(ModelBase):
         self.outer = outer_contact_for(params.P1, params.L1, params.tau1, options.contact_growth,
                                        params.q_face)
         self.Qf, self.Qp = params.F_face, params.F_plug_face
-        if params.has_face:           # end resistance: the joint problem with its windows
+        if params.has_damping:        # Smith damping: the joint problem with its dampers
+            self._damping = damping_of(params)
+            self._step = self._step_damped_pair if params.has_plug else self._step_damped_alone
+        elif params.has_face:         # end resistance: the joint problem with its windows
             self._step = self._step_face_pair if params.has_plug else self._step_face_alone
         else:
             self._step = self._step_pair if params.has_plug else self._step_alone
@@ -138,6 +142,14 @@ class RigidFd(ModelBase):
                                _ROUND_OFF * s["p_max"]))
         self._commit_face(s, q, tau, v1, 0.0, p1, 0.0, 0.0, (v1 > 0.0) - (v1 < 0.0), 0, c1m)
 
+    def _step_damped_pair(self, s: dict, q: float, tau: float) -> None:
+        """One step of pipe and plug with Smith damping (:mod:`pipeplug.rigid.damped_fd`)."""
+        step_damped_pair(self, s, q, tau)
+
+    def _step_damped_alone(self, s: dict, q: float, tau: float) -> None:
+        """One step of the pipe alone with Smith damping."""
+        step_damped_alone(self, s, q, tau)
+
     def _commit_face(self, s, q, tau, v1, v2, p1, p2, p3, s1, s2, c1) -> None:
         """:meth:`_commit` with the end impulses: the soil's ``p1`` on the pipe splits into the
         shaft's (up to its limit ``c1``, first) and the annulus'; ``p3`` on the plug's face.
@@ -173,7 +185,7 @@ class RigidFd(ModelBase):
                        s["W_outer"] + s["W_inner"], s["W_outer"], s["W_inner"], kinetic, 0.0,
                        s["W_num"], q, 0.0, 0.0, 0.0, s["W_in"], -q / self.S1,
                        float(low) / self.S1, float(high) / self.S1, self.at_rest(),
-                       int(s["s1"]), int(s["s2"]), s["W_face"])
+                       int(s["s1"]), int(s["s2"]), s["W_face"], s["W_damp"])
 
     def modes(self) -> tuple[tuple[int, int], ...]:
         """Every internal step's contact modes (pipe_mode, plug_mode), repeats merged."""

@@ -60,6 +60,7 @@ def run_chunk(spec, c: int) -> pa.Table:
                "W_friction": out["W_friction_outer"] + out["W_friction_inner"],
                "E_transferred": out["W_input"],                # no ram: Q's own work
                "W_face": np.zeros(n),          # sweep files set no end resistance
+               "W_damping": np.zeros(n),       # nor damping
                **{k: np.full(n, v) for k, v in AT_REST.items()},
                "error": pa.repeat("", n)}
     table = pa.table(columns, schema=schema(spec))

@@ -1,0 +1,158 @@
+"""Smith damping in the rigid models: the exact solver against closed forms derived here and
+the independent ODE reference, its ledger and grid independence, fd's first order, defaults
+and refusals."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from pipeplug import build_model
+from pipeplug.params import ParameterError
+from pipeplug.rigid.damped import RigidDamped
+from pipeplug.rigid.exact import RigidExact
+from pipeplug_references.damping_ivp import simulate_damped
+
+R1, H1, RHO1, L1 = 0.035, 0.003, 7800.0, 1.0
+P1, S1 = 2 * math.pi * (R1 + H1), math.pi * ((R1 + H1) ** 2 - R1 ** 2)
+M1 = RHO1 * S1 * L1
+Q, T0 = 23e3, 0.05
+
+
+def _sliding_pipe(t, tau1, j):
+    """A pipe alone (tau2 = 0) with shaft friction T1 = P1 L1 tau1 damped by c = J T1, pushed
+    from rest by Q for T0, then free: M v' = F - c v (F = Q - T1, then -T1) has
+    v = F/c + (v0 - F/c) exp(-c t / M). Returns (v, u, W_damping = int c v^2, stop time)."""
+    t1, c = P1 * L1 * tau1, j * P1 * L1 * tau1
+    lam = c / M1
+
+    def piece(v0, f, s):              # velocity, displacement and int v^2 after s
+        vinf = f / c
+        e = math.exp(-lam * s)
+        v = vinf + (v0 - vinf) * e
+        u = vinf * s + (v0 - vinf) * (1 - e) / lam
+        sq = (vinf ** 2 * s + 2 * vinf * (v0 - vinf) * (1 - e) / lam
+              + (v0 - vinf) ** 2 * (1 - e * e) / (2 * lam))
+        return v, u, sq
+
+    v1, u1, sq1 = piece(0.0, Q - t1, min(t, T0))
+    stop = T0 + math.log(1 + c * v1 / t1) / lam
+    if t <= T0:
+        return v1, u1, c * sq1, stop
+    v2, u2, sq2 = piece(v1, -t1, min(t, stop) - T0)
+    return (v2 if t < stop else 0.0), u1 + u2, c * (sq1 + sq2), stop
+
+
+def _run(params, times, solver="exact"):
+    model = build_model(params, {"solver": solver})
+    return model, model.sample(np.where(times <= T0, Q, 0.0), times)
+
+
+@pytest.mark.parametrize("j", [0.05, 0.7, 30.0])
+def test_a_sliding_pipe_with_damped_shaft_friction_is_the_closed_form(j):
+    tau1 = 2e4
+    params = {"tau1": tau1, "tau2": 0.0, "J_shaft": j}
+    stop = _sliding_pipe(T0, tau1, j)[3]
+    times = np.sort(np.concatenate([np.linspace(0.001, 2 * stop, 97), [T0, stop]]))
+    model, out = _run(params, times)
+    assert isinstance(model, RigidDamped)
+    v, u, w, _ = np.array([_sliding_pipe(t, tau1, j) for t in times]).T
+    scale = np.max(np.abs(v))
+    assert np.max(np.abs(out["v_pipe"] - v)) <= 1e-13 * scale
+    assert out["u_pipe"] == pytest.approx(u, rel=1e-13, abs=1e-16)
+    assert out["W_damping"] == pytest.approx(w, rel=1e-12, abs=1e-12 * w[-1])
+    assert np.all(out["v_pipe"][times > stop * (1 + 1e-12)] == 0.0)   # stuck exactly after it
+
+
+CASES = [      # coupled pipe and plug, model I: every kind of piece and event
+    dict(tau1=2e4, tau2=1e4, q_face=1e6, q_plug_face=5e5, J_shaft=0.5, J_face=0.5),
+    dict(tau1=2e4, tau2=1e4, J_shaft=0.3),
+    dict(tau1=0.0, tau2=1e4, J_shaft=2.0, q_face=2e6, q_plug_face=1e6, J_face=0.2),
+]
+
+
+@pytest.mark.parametrize("params", CASES)
+def test_coupled_cases_agree_with_the_reference_ode(params):
+    times = np.linspace(0.0, 0.2, 201)[1:]
+    _, out = _run(params, times)
+    ref = simulate_damped(params, [(T0, Q)], times, False)
+    for name in ("v_pipe", "v_plug", "u_pipe", "u_plug", "W_damping", "W_face", "W_friction",
+                 "F_outer", "F_inner"):
+        scale = max(np.max(np.abs(ref[name])), 1e-30)
+        assert np.max(np.abs(out[name] - ref[name])) <= 1e-10 * scale, name
+    assert np.max(out["W_damping"]) > 0.0
+
+
+@pytest.mark.parametrize("params", CASES)
+def test_ledger_closes_and_the_damping_work_never_decreases(params):
+    times = np.linspace(0.0, 0.2, 401)[1:]
+    _, out = _run(params, times)
+    residual = (out["W_input"] - out["E_kinetic"] - out["W_friction"] - out["W_face"]
+                - out["W_damping"])
+    assert np.max(np.abs(residual)) <= 1e-13 * np.max(out["W_input"])
+    assert np.all(np.diff(out["W_damping"]) >= 0.0)
+
+
+def test_outputs_do_not_depend_on_the_host_grid():
+    params = CASES[0]
+    coarse = build_model(params)
+    coarse.advance_to(Q, T0)
+    coarse.advance_to(0.0, 0.2)
+    fine = build_model(params)
+    for t in np.linspace(0.0, T0, 38)[1:]:
+        fine.advance_to(Q, t)
+    for t in np.linspace(T0, 0.2, 71)[1:]:
+        fine.advance_to(0.0, t)
+    a, b = coarse.outputs(), fine.outputs()
+    for name in ("u_pipe", "u_plug", "W_damping", "W_friction", "W_face"):
+        assert getattr(a, name) == pytest.approx(getattr(b, name), rel=1e-15), name
+
+
+def test_fd_converges_at_first_order_to_the_reference():
+    params = CASES[0]
+    times = np.array([T0, 0.2])
+    ref = simulate_damped(params, [(T0, Q)], times, False)
+    errors = []
+    for dt in (4e-5, 1e-5):
+        _, out = _run(dict(params, dt=dt), times, "fd")
+        errors.append(abs(out["u_pipe"][-1] - ref["u_pipe"][-1]))
+        residual = (out["W_input"] - out["E_kinetic"] - out["W_friction"] - out["W_face"]
+                    - out["W_damping"] - out["W_numerical"])
+        assert np.max(np.abs(residual)) <= 1e-10 * np.max(out["W_input"])
+    order = math.log(errors[0] / errors[1]) / math.log(4.0)
+    assert 0.7 < order < 1.3
+
+
+def test_model_ii_fd_agrees_with_the_reference():
+    params = dict(tau1=2e4, tau2=1e4, J_shaft=0.5, q_face=1e6, J_face=0.3)
+    times = np.array([0.05, 0.3])
+    model = build_model(dict(params, dt=5e-6), {"solver": "fd", "contact_growth": True})
+    out = model.sample(np.array([Q, 0.0]), times)
+    ref = simulate_damped(params, [(T0, Q)], times, True)
+    assert out["u_pipe"] == pytest.approx(ref["u_pipe"], rel=1e-3)
+    assert out["W_damping"][-1] == pytest.approx(ref["W_damping"][-1], rel=1e-3)
+
+
+def test_without_damping_the_models_are_those_of_before():
+    assert type(build_model({"tau1": 2e4})) is RigidExact
+    assert type(build_model({"tau1": 2e4, "J_shaft": 0.0, "J_face": 0.0})) is RigidExact
+    # a damping with nothing to damp is absent: no shaft friction, no plug, no end resistance
+    assert type(build_model({"tau1": 0.0, "tau2": 0.0, "J_shaft": 1.0, "J_face": 1.0})) \
+        is RigidExact
+    fd = build_model({"tau1": 2e4}, {"solver": "fd"})
+    assert not hasattr(fd, "_damping")
+
+
+@pytest.mark.parametrize("params, options, words", [
+    ({"tau1": 2e4, "J_shaft": 0.5}, {"contact_growth": True}, "contact_growth"),
+    ({"tau1": 2e4, "J_shaft": 0.5, "ram_mass": 100.0}, {}, "ram"),
+    ({"tau1": 2e4, "J_face": 0.5, "q_face": 1e6}, {"elastic": True, "solver": "exact"},
+     "elastic"),
+    ({"tau1": 2e4, "J_shaft": 2e3}, {}, "<= 1000"),
+])
+def test_refusals_name_the_parameter_and_the_combination(params, options, words):
+    with pytest.raises(ParameterError) as refusal:
+        build_model(dict(params, L1=1.0, dx=0.01), options)
+    assert refusal.value.name in ("J_shaft", "J_face")
+    assert words in str(refusal.value)
