@@ -136,29 +136,43 @@ def bound_ratio(rows, loads, steps, body: RodBody, h: float, strikes=(), starts=
     return float(np.max(ratio, initial=0.0))
 
 
+def node_rule_weights(x: float, n: int, dx: float) -> dict:
+    """The cells' weights [1] of the value at section ``x`` [m] of a rod of ``n`` cells of
+    ``dx`` [m] by the contract's section rule: linear between the nodes x = j dx, whose values
+    are the head cell's at x = 0, the mean of the two neighbouring cells at a face, the last
+    cell's at x = L."""
+    s = min(max(x / dx, 0.0), float(n))
+    j = min(math.floor(s), n - 1)
+    weights: dict = {}
+    for node, share in ((j, 1.0 - (s - j)), (j + 1, s - j)):
+        cells = ([0] if node <= 0 or n == 1 else [n - 1] if node >= n else [node - 1, node])
+        for cell in cells:
+            weights[cell] = weights.get(cell, 0.0) + share / len(cells)
+    return weights
+
+
 def free_rod_error(case: ElasticCase, grid, rows) -> float:
     """The free rod at Courant 1 (no friction): v_pipe and u_pipe at every point against the
     exact d'Alembert cell averages (:mod:`pipeplug_references.rods`) at the last internal step
-    at or before it, interpolated at x_monitor by the contract's section rule; u is the sum of
-    the exact cell velocities times the internal step, as the scheme integrates it. Largest
+    at or before it, combined at x_monitor by the contract's section rule
+    (:func:`node_rule_weights`); u is the sum of the exact cell velocities times the internal
+    step, as the scheme integrates it. Largest
     |error| over the largest |v| (|u|) of the reference and over the round-off allowance
     (1e-12 + 2.2e-16 n) of the ledger, n the internal steps so far (the scheme is exact but for
     the round-off its fields accumulate)."""
     p = case.params
     h, dx, L = internal_step(p), p["dx"], p["L1"]
     n = round(L / dx)
-    s = min(max(p["x_monitor"] / dx - 0.5, 0.0), n - 1.0)
-    a = min(math.floor(s), max(n - 2, 0))
-    w = s - a
+    weights = node_rule_weights(p["x_monitor"], n, dx)
     times = np.asarray(grid[1:], dtype=float)
     k = np.floor(times / h + 1e-6).astype(int)
     all_k = np.arange(1, k.max() + 1)
     load = Load(tuple(case.edges), tuple(case.loads))
     c, Z = math.sqrt(p["E1"] / p["rho1"]), RodBody.of(p).Z1
-    cells = [free_rod_cell_velocity(load, j * dx, (j + 1) * dx, all_k * h, L, c, Z)
-             for j in (a, min(a + 1, n - 1))]
-    v = (1.0 - w) * cells[0] + w * cells[1]
-    u = (1.0 - w) * np.cumsum(h * cells[0]) + w * np.cumsum(h * cells[1])
+    v = u = 0.0
+    for j, w in weights.items():
+        cell = free_rod_cell_velocity(load, j * dx, (j + 1) * dx, all_k * h, L, c, Z)
+        v, u = v + w * cell, u + w * np.cumsum(h * cell)
     index = np.clip(k - 1, 0, None)
     v_ref = np.where(k > 0, v[index], 0.0)
     u_ref = np.where(k > 0, u[index], 0.0)
