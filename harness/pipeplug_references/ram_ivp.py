@@ -222,10 +222,13 @@ def _piece(s, r, y, st, t, tb, times, k, rtol):
 
     evs = []
 
-    def add(fun, direction, name):
+    def add(fun, direction, name, band=0.0):
+        # At the piece's start a level met within ``band`` (round-off of its terms) counts as
+        # met: a plug carried at its limit when a strike starts (the forces balanced to the
+        # last digit) leaves at once as the cushion loads, whichever side of 0 it starts on.
         def event(tt, z):
             g = fun(z)
-            return -direction * 1e-300 if g == 0.0 and tt == t else g
+            return -direction * 1e-300 if abs(g) <= band and tt == t else g
         event.terminal, event.direction, event.name = True, direction, name
         evs.append(event)
 
@@ -240,8 +243,9 @@ def _piece(s, r, y, st, t, tb, times, k, rtol):
     if p != 0 and rr == 0 and s.plug and c in (LOAD, UNLOAD):
         def required(z):
             return s.M2 * _accel(s, r, q, p, 0, c, r.force(c, z[4], dmax))[0]
-        add(lambda z: s.c2 - required(z), -1, "plug breaks away +")
-        add(lambda z: s.c2 + required(z), -1, "plug breaks away -")
+        band = 1e-12 * s.c2
+        add(lambda z: s.c2 - required(z), -1, "plug breaks away +", band)
+        add(lambda z: s.c2 + required(z), -1, "plug breaks away -", band)
     if c == LOAD:
         add(lambda z: z[5] - z[1], -1, "largest compression")
     if c == UNLOAD:

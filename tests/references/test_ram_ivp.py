@@ -196,3 +196,23 @@ def test_imports_nothing_of_the_project():
              for a in n.names}
     roots |= {n.module.split(".")[0] for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)}
     assert roots <= {"__future__", "numpy", "scipy", "rigid_ivp"}
+
+
+def test_a_plug_carried_at_its_limit_leaves_as_the_cushion_loads():
+    """Campaign case 2029:8540: before the strike the pipe slides and carries the plug with the
+    plug's inner friction exactly at its limit (Q - T1 shared by the masses leaves M2 a = F2).
+    As the cushion loads, the pipe's acceleration grows, so the plug must slide at once; the
+    reference kept it carried through the whole first compression (0.3 of the works' scale)."""
+    L = 2.6798491160921416
+    params = dict(L1=L, L2=L, R1=0.035, h1=0.003, rho1=7800.0, rho2=3379.7593398670856,
+                  tau1=51013.11869790693, tau2=348.65135304883876)
+    ram = {"mass": 2.9804235445854954, "k": 271867.4955068906, "e": 0.7307695923387499}
+    history = [(0.0, "q", 32930.66110698827),
+               (0.0023028128064859453, "strike", 2.793802832338748)]
+    out = simulate_ram(params, ram, history, np.array([0.0025]))
+    S1 = math.pi * ((0.038) ** 2 - 0.035 ** 2)
+    M1 = 7800.0 * S1 * L
+    M2 = params["rho2"] * math.pi * 0.035 ** 2 * L
+    F1, F2 = 2 * math.pi * 0.038 * L * params["tau1"], 2 * math.pi * 0.035 * L * params["tau2"]
+    assert abs(M2 * (history[0][2] - F1) / (M1 + M2) - F2) < 1e-9 * F2   # carried at the limit
+    assert out["v_pipe"][0] > out["v_plug"][0]                          # the plug slides
