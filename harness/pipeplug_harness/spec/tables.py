@@ -24,7 +24,9 @@ __all__ = ["Key", "SECTIONS", "KINDS_OF_VALUE", "blow_default"]
 #: kind -> what a value of it is, in words (for messages)
 KINDS_OF_VALUE = {"number": "a number", "integer": "an integer", "bool": "true or false",
                   "string": "a string", "auto": 'true, false or "auto"', "names": "a list of names",
-                  "choice": "one of the names listed"}
+                  "choice": "one of the names listed",
+                  "numbers": "a list of numbers, ascending", "integers": "a list of integers, "
+                                                                         "ascending"}
 
 _CORE = {p.name: p for p in PARAMETERS}
 
@@ -35,7 +37,9 @@ class Key:
 
     ``unit`` is its SI unit (numbers); ``plausible`` the inclusive range (SI) outside which a
     value needs ``[checks] allow``; ``choices`` the allowed values of a choice or the allowed
-    names of a list; ``required`` a file must give it (or, in a sweep, vary it).
+    names of a list; ``required`` a file must give it (or, in a sweep, vary it). A key of kind
+    ``"numbers"`` or ``"integers"`` is a list of them, strictly ascending, each within the
+    bounds and the plausible range.
     """
 
     kind: str
@@ -161,6 +165,12 @@ SECTIONS: dict[str, dict[str, Key]] = {
         "step": _positive("s", (1e-8, 10.0), "communication step while a blow acts"),
         "yield_stress": _positive("Pa", (1e6, 5e9), "the pipe's yield stress: the drive "
                                                     "reports its largest stress against it"),
+        "cleanout_at": _positive("m", (1e-3, 500.0), "clean-outs: before the first blow at or "
+                                                     "past each of these penetrations",
+                                 kind="numbers"),
+        "cleanout_at_blows": Key("integers", "1", None, False, (1, 1e7), lower=1,
+                                 meaning="clean-outs: before each of these blows (instead of "
+                                         "cleanout_at)"),
     },
     "sweep": {
         "kind": Key("choice", default="blow", choices=("blow", "drive"),
