@@ -27,6 +27,7 @@ from .rigid.record import (
     TIME,
     U1,
     U2,
+    W_FACE,
     W_IN,
     W_INNER,
     W_OUTER,
@@ -47,8 +48,8 @@ from .rigid.stepping import (
 __all__ = ["blows", "RESULTS"]
 
 #: the results of each case, in the order of the kernel's table
-RESULTS = ("u_pipe", "u_plug", "W_input", "W_friction_outer", "W_friction_inner", "t_rest",
-           "t_end")
+RESULTS = ("u_pipe", "u_plug", "W_input", "W_friction_outer", "W_friction_inner", "W_face",
+           "t_rest", "t_end")
 
 
 def blows(params=None, amplitude=23e3, duration=0.05, contact_growth: bool = False, *,
@@ -77,7 +78,8 @@ def blows(params=None, amplitude=23e3, duration=0.05, contact_growth: bool = Fal
     -------
     dict of arrays
         Per case: ``u_pipe``, ``u_plug`` [m] at rest, ``W_input``, ``W_friction_outer``,
-        ``W_friction_inner`` [J] (all of the input work is dissipated), ``t_rest`` [s], the
+        ``W_friction_inner``, ``W_face`` [J] (the work against the end resistance, 0 without
+        one; all of the input work is dissipated), ``t_rest`` [s], the
         time from the blow's start at which all is at rest, and ``t_end`` [s], the end of the
         step after which it was found at rest: the blow, then steps doubling from its duration
         (``duration``, ``2 duration``, ``4 duration``, ...; the last one cut at ``t_max``).
@@ -139,10 +141,11 @@ def blows_into(st, par, log, pars, amplitude, duration, t_max, out):
         if at_rest(st):
             out[i, 0], out[i, 1] = st[U1], st[U2]
             out[i, 2], out[i, 3], out[i, 4] = st[W_IN], st[W_OUTER], st[W_INNER]
-            out[i, 5] = st[T0]
+            out[i, 5] = st[W_FACE]            # at rest: the piece adds none
+            out[i, 6] = st[T0]
         else:
-            for j in range(5):
+            for j in range(6):
                 out[i, j] = math.nan
-            out[i, 5] = math.inf
-        out[i, 6] = st[TIME]
+            out[i, 6] = math.inf
+        out[i, 7] = st[TIME]
     return OK, -1

@@ -125,11 +125,14 @@ def _check_rigid_ram(params: Params, options: Options) -> None:
 
 
 def _check_face(params: Params, options: Options) -> None:
-    """Refuse an end resistance where a model does not carry it yet."""
+    """Refuse an end resistance where a model does not carry it yet: with a ram, the rigid
+    model II (its front end meets the soil at U = 0, a change of the pieces the ram's do not
+    look for; the exact solver carries a ram with end resistance in model I)."""
     name = "q_face" if params.q_face > 0.0 else "q_plug_face"
-    if params.has_ram and not options.elastic:
-        raise ParameterError(name, getattr(params, name), "0 with a ram (ram_mass > 0) in the "
-                             "rigid models")
+    if params.has_ram and not options.elastic and options.contact_growth:
+        raise ParameterError(name, getattr(params, name), "0 with a ram (ram_mass > 0) and "
+                             "contact_growth in the rigid models (model I or the elastic "
+                             "model carry both)")
 
 
 def _check_damping(params: Params, options: Options) -> None:

@@ -33,7 +33,7 @@ from pipeplug_harness.errors import RunFailed, UserError
 from pipeplug_harness.load import Load
 
 __all__ = ["Session", "FmuSession", "CoreSession", "run_points", "simulate", "unpacked",
-           "split_start_values", "fmi_version"]
+           "split_start_values", "fmi_version", "fmu_inputs"]
 
 _UNPACKED: dict[str, str] = {}          # FMU content digest -> its folder in this process
 _TEMP: list[str] = []                   # temporary folders of this process, removed at exit
@@ -97,6 +97,13 @@ def fmi_version(fmu, expected: int | None = None) -> int:
     return version
 
 
+def fmu_inputs(fmu) -> frozenset:
+    """The names of the inputs of the FMU ``fmu`` (from its model description)."""
+    from fmpy import read_model_description
+    md = read_model_description(unpacked(fmu), validate=False)
+    return frozenset(v.name for v in md.modelVariables if v.causality == "input")
+
+
 def split_start_values(start_values: dict) -> tuple[dict, dict]:
     """(parameters, options) of FMU start values by contract name."""
     from pipeplug.options import OPTIONS
@@ -109,12 +116,17 @@ _FMI3_TYPES = {"Real": "Float64", "Integer": "Int32", "Boolean": "Boolean", "Str
 
 
 class Session(Protocol):
-    """What a run needs of an instance: steps under a held Q, strikes, their count, close."""
+    """What a run needs of an instance: steps under a held Q, strikes, clean-outs, their
+    count, close."""
 
     steps: int       #: communication steps taken
+    inputs: frozenset    #: the names of the inputs the instance takes
 
     def strike(self, velocity: float) -> None:
         """Start a strike of the ram [m/s] with the next step."""
+
+    def cleanout(self) -> None:
+        """Clean the plug out with the next step (the input ``cleanouts`` rises by one)."""
 
     def step(self, t: float, h: float, q: float) -> Outputs:
         """Hold Q = ``q`` [N] from ``t`` to ``t + h`` [s], then read the outputs."""
@@ -145,6 +157,7 @@ class FmuSession:
         md = read_model_description(folder)
         self.fmi = fmi_version(folder)
         self._vars = {v.name: v for v in md.modelVariables}
+        self.inputs = frozenset(v.name for v in md.modelVariables if v.causality == "input")
         slave = FMU3Slave if self.fmi == 3 else FMU2Slave
         self._fmu = slave(guid=md.guid, unzipDirectory=folder,
                           modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
@@ -177,7 +190,7 @@ class FmuSession:
                 self._set(name, value)
         self._fmu.exitInitializationMode()
         self.steps = 0
-        self._strikes = 0
+        self._strikes = self._cleanouts = 0
 
     def _set(self, name: str, value) -> None:
         """Set one variable with the setter of its FMI type."""
@@ -192,6 +205,13 @@ class FmuSession:
         self._strikes += 1
         self._set("v_strike", velocity)
         self._set("strikes", self._strikes)
+
+    def cleanout(self) -> None:
+        """Clean the plug out with the next step: the input ``cleanouts`` rises by one (an FMU
+        without it has refused the drive before, :func:`pipeplug_harness.drive.run.
+        check_inputs`)."""
+        self._cleanouts += 1
+        self._set("cleanouts", self._cleanouts)
 
     def step(self, t: float, h: float, q: float) -> Outputs:
         """Hold Q = ``q`` [N] over the communication step from ``t`` to ``t + h`` [s], then
@@ -243,11 +263,18 @@ class CoreSession:
         params, options = split_start_values(start_values)
         self.model = (builder or build_model)(params, options)
         self.steps = 0
+        # the FMU's inputs the model's methods stand for (a model that cleans out has one)
+        self.inputs = frozenset({"Q", "strikes", "v_strike"}
+                                | ({"cleanouts"} if hasattr(self.model, "cleanout") else set()))
 
     def strike(self, velocity: float) -> None:
         """Start a strike of the ram [m/s] with the next step (as the FMU's input
         ``strikes`` rising)."""
         self.model.strike(velocity)
+
+    def cleanout(self) -> None:
+        """Clean the plug out with the next step (as the FMU's input ``cleanouts`` rising)."""
+        self.model.cleanout()
 
     def step(self, t: float, h: float, q: float) -> Outputs:
         """Hold Q = ``q`` [N] from ``t`` to ``t + h`` [s] (as the FMU's doStep: from the host's

@@ -17,6 +17,15 @@ the strike is plastic (ram and pipe at their momentum's velocity), so that a Zen
 impacts (a ram following a decelerating pipe) ends after finitely many; then the ram rides on
 the pipe (one body) while the pipe alone would decelerate, and is left behind otherwise.
 
+With the soil's end resistance (``q_face``, ``q_plug_face`` in ``params``; model I: the front
+end is always in the soil) the equations of :mod:`pipeplug_references.face_ivp` hold with the
+cushion's force on the head: ``e1 in -Qf Sign+(U1')`` on the pipe, ``e3 in -Qp Sign+(U2')`` on
+the plug; the modes are decided by its three-contact solver
+(:func:`pipeplug_references.face_ivp.face_modes`) under Q plus the cushion's force, a sliding
+plug's velocity reaching 0 is an event, a held pipe is released where Q plus the cushion's force
+leaves the window the joint stuck problem allows, and ``W_face`` is booked from the
+displacements (-e1 dU1 - e3 dU2).
+
 Method: as :mod:`pipeplug_references.rigid_ivp`: the motion is cut into pieces of constant
 contact modes (pipe, plug, ram: free, loading, unloading, riding), each integrated by scipy's
 ``solve_ivp`` (DOP853) with terminal events for every mode change (a velocity reaching 0, the
@@ -38,12 +47,13 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-from .rigid_ivp import System, coulomb_modes
+from .face_ivp import FaceSystem, face_modes
+from .rigid_ivp import coulomb_modes
 
 __all__ = ["simulate_ram", "OUTPUTS", "PLASTIC"]
 
 OUTPUTS = ("v_pipe", "v_plug", "u_pipe", "u_plug", "v_ram", "F_head", "W_input", "W_friction",
-           "W_cushion", "E_strain", "E_kinetic", "W_ram", "pipe_mode", "plug_mode")
+           "W_cushion", "E_strain", "E_kinetic", "W_ram", "pipe_mode", "plug_mode", "W_face")
 PLASTIC = 1e-10          #: impacts closing slower than this share of the fastest are plastic
 RTOL = 3e-14            #: near DOP853's floor (100 eps): see simulate_ram
 MAX_STALLED = 50         #: consecutive pieces without time progress before giving up
@@ -73,7 +83,8 @@ def simulate_ram(params: dict, ram: dict, history, times, *, rtol: float = RTOL)
     Parameters
     ----------
     params : dict
-        L1, L2, R1, h1, rho1, rho2, tau1, tau2 (SI) as :func:`pipeplug_references.rigid_ivp.simulate`.
+        L1, L2, R1, h1, rho1, rho2, tau1, tau2 (SI) as :func:`pipeplug_references.rigid_ivp.simulate`,
+        and the end resistance q_face, q_plug_face [Pa] (default 0).
     ram : dict
         ``mass`` [kg], ``k`` [N/m] (0: direct impacts), ``e`` [1].
     history : list of (time [s], "q" | "strike", value)
@@ -86,15 +97,16 @@ def simulate_ram(params: dict, ram: dict, history, times, *, rtol: float = RTOL)
     -------
     dict of arrays (:data:`OUTPUTS`) at ``times`` and ``events``: (time, description).
     """
-    s = System(params, False)
+    s = FaceSystem(params, False)
+    s.face = s.qf > 0.0 or s.qp > 0.0
     r = _Ram(float(ram["mass"]), float(ram.get("k", 0.0)), float(ram.get("e", 1.0)))
     times = np.asarray(times, dtype=float)
     out = {name: np.zeros(times.size) for name in OUTPUTS}
     events = []
     out["events"] = events
     y = np.zeros(6)                   # U1, V1, U2, V2, D (compression), VR (ram velocity)
-    st = dict(q=0.0, p=0, rr=0, c=FREE, dmax=0.0, struck=False, w_in=0.0, w_fo=0.0, w_fi=0.0,
-              w_c=0.0, w_ram=0.0, vscale=0.0, kick1=0, kick2=0)
+    st = dict(q=0.0, p=0, rr=0, g=0, c=FREE, dmax=0.0, struck=False, w_in=0.0, w_fo=0.0,
+              w_fi=0.0, w_c=0.0, w_ram=0.0, w_face=0.0, vscale=0.0, kick1=0, kick2=0)
     marks = [h[0] for h in history] + [float(times[-1]) if times.size else 0.0]
     k = 0
     t = 0.0
@@ -175,49 +187,71 @@ def _decide(s, r, y, st, events, t, cause):
     force = r.force(c, y[4], st["dmax"])
     pipe_sign = int(np.sign(y[1])) or st["kick1"]
     rel_sign = (int(np.sign(y[1] - y[3])) or st["kick2"]) if s.plug else 0
-    p, rr, _, _ = coulomb_modes(s, q + force, y[0], pipe_sign, rel_sign)
+    plug_sign = int(np.sign(y[3])) if s.plug else 0
+    p, rr, g = _modes(s, q + force, y[0], pipe_sign, rel_sign, plug_sign)
     if c == RIDE:
-        a_alone = _accel(s, r, q, p, rr, FREE, 0.0)[0]
+        a_alone = _accel(s, r, q, p, rr, g, FREE, 0.0)[0]
         if not a_alone < 0.0:
             c = FREE
         else:
-            heavy = System.__new__(System)
+            heavy = type(s).__new__(type(s))
             heavy.__dict__.update(s.__dict__)
             heavy.M1 = s.M1 + r.m
-            p, rr, _, _ = coulomb_modes(heavy, q, y[0], pipe_sign, rel_sign)
+            p, rr, g = _modes(heavy, q, y[0], pipe_sign, rel_sign, plug_sign)
     if p == 0:
         y[1] = 0.0
     if rr == 0 and s.plug:
         y[3] = y[1]
+    if g == 0 and s.plug and s.face:
+        y[3] = 0.0
     if c == RIDE:
         y[5] = y[1]
-    st.update(p=p, rr=rr, c=c, kick1=0, kick2=0)
-    events.append((t, f"{cause}: pipe {p:+d}, plug {rr:+d}, ram {c}"))
+    st.update(p=p, rr=rr, g=g, c=c, kick1=0, kick2=0)
+    events.append((t, f"{cause}: pipe {p:+d}, plug {rr:+d}, soil {g:+d}, ram {c}"))
 
 
-def _accel(s, r, q, p, rr, c, force):
-    """(a1, a2, a_ram) in modes (p, rr, c) under the cushion's ``force``."""
+def _modes(s, q, u1, pipe_sign, rel_sign, plug_sign):
+    """``(p, rr, g)``: the modes of pipe/soil, pipe/plug and plug/soil (the last the plug's
+    velocity's sign, 0 held; as the pipe's without end resistance) under ``q`` [N]."""
+    if s.face:
+        return face_modes(s, q, u1, pipe_sign, rel_sign, plug_sign)[0]
+    p, rr, _, _ = coulomb_modes(s, q, u1, pipe_sign, rel_sign)
+    return p, rr, 0
+
+
+def _ends(s, p, rr, g):
+    """The soil's end forces (e1 on the pipe, e3 on the plug) [N] of sliding bodies in modes
+    (p, rr, g): -Qf, -Qp advancing, 0 retreating (a carried plug moves as the pipe)."""
+    e1 = -s.qf if p > 0 else 0.0
+    moving = p if rr == 0 else g
+    e3 = -s.qp if (s.plug and moving > 0) else 0.0
+    return e1, e3
+
+
+def _accel(s, r, q, p, rr, g, c, force):
+    """(a1, a2, a_ram) in modes (p, rr, g, c) under the cushion's ``force``."""
     F1 = s.c1_full
+    e1, e3 = _ends(s, p, rr, g)
     if p == 0:
         a1 = 0.0
-        a2 = rr * s.c2 / s.M2 if rr else 0.0
+        a2 = (rr * s.c2 + e3) / s.M2 if rr and (g or not s.face) else 0.0
     elif rr == 0:
         mass = s.M1 + s.M2 + (r.m if c == RIDE else 0.0)
-        a1 = (q - p * F1 + force) / mass
+        a1 = (q - p * F1 + e1 + e3 + force) / mass
         a2 = a1 if s.plug else 0.0
     else:
-        a1 = (q - p * F1 - rr * s.c2 + force) / (s.M1 + (r.m if c == RIDE else 0.0))
-        a2 = rr * s.c2 / s.M2
+        a1 = (q - p * F1 + e1 - rr * s.c2 + force) / (s.M1 + (r.m if c == RIDE else 0.0))
+        a2 = (rr * s.c2 + e3) / s.M2 if (g or not s.face) else 0.0
     a_ram = a1 if c == RIDE else -force / r.m
     return a1, a2, a_ram
 
 
 def _piece(s, r, y, st, t, tb, times, k, rtol):
-    q, p, rr, c, dmax = st["q"], st["p"], st["rr"], st["c"], st["dmax"]
+    q, p, rr, g, c, dmax = st["q"], st["p"], st["rr"], st["g"], st["c"], st["dmax"]
 
     def rhs(_, z):
         force = r.force(c, z[4], dmax)
-        a1, a2, a_ram = _accel(s, r, q, p, rr, c, force)
+        a1, a2, a_ram = _accel(s, r, q, p, rr, g, c, force)
         return (z[1], a1, z[3], a2 if s.plug else 0.0, z[5] - z[1], a_ram)
 
     evs = []
@@ -236,13 +270,20 @@ def _piece(s, r, y, st, t, tb, times, k, rtol):
         add(lambda z: z[1], -p, "pipe stops")
     if rr != 0:
         add(lambda z: z[1] - z[3], -rr, "plug sticks")
+    if p != 0 and rr != 0 and g != 0 and s.face and s.qp > 0.0:
+        add(lambda z: z[3], -g, "plug stops")
     if p == 0 and c in (LOAD, UNLOAD):
+        # held while the joint stuck problem has a solution: with the plug stuck too, f2 in
+        # [-c2, c2], e3 = f2 in [-Qp, 0]; with the plug sliding, f2 = -rr c2
         f2 = -rr * s.c2
-        add(lambda z: s.c1_full - (q + r.force(c, z[4], dmax) + f2), -1, "pipe breaks away +")
+        ahead = s.c1_full + s.qf + (min(s.qp, s.c2) if rr == 0 and s.plug else 0.0)
+        add(lambda z: ahead - (q + r.force(c, z[4], dmax) + f2), -1, "pipe breaks away +")
         add(lambda z: s.c1_full + (q + r.force(c, z[4], dmax) + f2), -1, "pipe breaks away -")
     if p != 0 and rr == 0 and s.plug and c in (LOAD, UNLOAD):
-        def required(z):
-            return s.M2 * _accel(s, r, q, p, 0, c, r.force(c, z[4], dmax))[0]
+        e3 = _ends(s, p, 0, 0)[1]
+
+        def required(z):        # the plug's force on the pipe is -(M2 a - e3)
+            return s.M2 * _accel(s, r, q, p, 0, 0, c, r.force(c, z[4], dmax))[0] - e3
         band = 1e-12 * s.c2
         add(lambda z: s.c2 - required(z), -1, "plug breaks away +", band)
         add(lambda z: s.c2 + required(z), -1, "plug breaks away -", band)
@@ -263,7 +304,7 @@ def _piece(s, r, y, st, t, tb, times, k, rtol):
     # A flying ram's compression is a quadratic (the pipe's acceleration is constant in a
     # piece): with no relative velocity and acceleration (a ram left against a pipe that has
     # stopped) it stays where it is and meets nothing.
-    still = y[5] == y[1] and _accel(s, r, q, p, rr, FREE, 0.0)[0] == 0.0
+    still = y[5] == y[1] and _accel(s, r, q, p, rr, g, FREE, 0.0)[0] == 0.0
     if c == FREE and st["struck"] and not still:
         add(lambda z: z[4] - touch, 1, "ram reaches the head")
         # the compression's largest value: a crossing of ``touch`` and back within one step
@@ -361,8 +402,12 @@ def _event(s, r, y, st, fired):
         y[1] = y[3] = (m1 * y[1] + s.M2 * y[3]) / (m1 + s.M2) if moving else y[1]
         if st["c"] == RIDE:
             y[5] = y[1]
+    elif fired == "plug stops":
+        y[3] = 0.0
     elif fired.startswith("pipe breaks away"):
         st["kick1"] = 1 if fired.endswith("+") else -1
+        if fired.endswith("+") and s.face and s.plug and st["rr"] == 0 and s.qp > s.c2:
+            st["kick2"] = 1       # released at F1 + Qf + F2: the pipe slides over the plug
     elif fired.startswith("plug breaks away"):
         st["kick2"] = 1 if fired.endswith("+") else -1
     elif fired == "largest compression":
@@ -385,6 +430,8 @@ def _bookkeep(s, r, y0, y1, st):
     st["w_fo"] += abs(st["p"]) * s.c1_full * abs(d1)
     if st["rr"]:
         st["w_fi"] += s.c2 * abs((y1[0] - y1[2]) - (y0[0] - y0[2]))
+    e1, e3 = _ends(s, st["p"], st["rr"], st["g"])
+    st["w_face"] += -e1 * d1 - e3 * (y1[2] - y0[2])
     if st["c"] == LOAD:
         st["w_c"] += 0.5 * (1.0 - r.e ** 2) * r.k * (y1[4] ** 2 - y0[4] ** 2)
         st["dmax"] = max(st["dmax"], y1[4])
@@ -397,11 +444,13 @@ def _fill(s, r, out, idx, ys, y0, st):
     force = np.array([max(r.force(c, x, max(st["dmax"], x) if c == LOAD else st["dmax"]), 0.0)
                       for x in np.atleast_1d(d)])
     if c == RIDE:
-        force = np.full(d.shape, max(0.0, -r.m * _accel(s, r, st["q"], st["p"], st["rr"], c,
-                                                          0.0)[0]))
+        force = np.full(d.shape, max(0.0, -r.m * _accel(s, r, st["q"], st["p"], st["rr"],
+                                                          st["g"], c, 0.0)[0]))
     d1 = u1 - y0[0]
     w_c = st["w_c"] + (0.5 * (1.0 - r.e ** 2) * r.k * (d * d - y0[4] ** 2) if c == LOAD else 0.0)
     w_fi = st["w_fi"] + (s.c2 * np.abs((u1 - u2) - (y0[0] - y0[2])) if st["rr"] else 0.0)
+    e1, e3 = _ends(s, st["p"], st["rr"], st["g"])
+    w_face = st["w_face"] - e1 * d1 - e3 * (u2 - y0[2]) + 0.0 * u1
     values = dict(v_pipe=v1, v_plug=v2 if s.plug else 0.0 * v1, u_pipe=u1,
                   u_plug=u2 if s.plug else 0.0 * u1, v_ram=vr, F_head=st["q"] + force,
                   W_input=st["w_in"] + st["q"] * d1,
@@ -410,7 +459,7 @@ def _fill(s, r, out, idx, ys, y0, st):
                   E_strain=force ** 2 / (2.0 * r.ku) if r.k > 0.0 else 0.0 * u1,
                   E_kinetic=0.5 * (s.M1 * v1 ** 2 + s.M2 * v2 ** 2 + r.m * vr ** 2),
                   W_ram=st["w_ram"] + 0.0 * u1, pipe_mode=st["p"] + 0.0 * u1,
-                  plug_mode=st["rr"] + 0.0 * u1)
+                  plug_mode=st["rr"] + 0.0 * u1, W_face=w_face)
     for name, value in values.items():
         out[name][idx] = value
 

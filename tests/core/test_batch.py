@@ -90,10 +90,31 @@ def test_each_case_is_one_model_stepped_to_rest(growth):
             assert res[name][i] == pytest.approx(value, rel=1e-12, abs=1e-15), (i, name)
 
 
+def test_end_resistance_cases_are_one_model_stepped_to_rest():
+    """With q_face and q_plug_face the batch gives what one model gives, W_face included, and
+    the input work goes into friction and the face's work."""
+    rng = np.random.default_rng(5)
+    params = {**_random(12, seed=7), "q_face": rng.uniform(0.0, 2e7, 12),
+              "q_plug_face": rng.uniform(0.0, 2e5, 12)}
+    res = blows(params, 23e3, 0.05)
+    works = res["W_friction_outer"] + res["W_friction_inner"] + res["W_face"]
+    assert np.all(np.abs(res["W_input"] - works) <= 1e-12 * res["W_input"])
+    assert np.all(res["W_face"][res["u_pipe"] > 0.0] > 0.0) and np.any(res["u_pipe"] > 0.0)
+    for i in range(0, 12, 4):
+        model = build_model({k: v[i] for k, v in params.items()})
+        model.advance(23e3, 0.05)
+        while not model.at_rest():
+            model.advance(0.0, 0.01)
+        o = model.outputs()
+        for name in ("u_pipe", "u_plug", "W_input", "W_face"):
+            assert res[name][i] == pytest.approx(getattr(o, name), rel=1e-12, abs=1e-15), \
+                (i, name)
+
+
 def test_a_case_that_never_stops_is_marked():
     """tau1 = 0: nothing stops the pipe (it and the plug glide on together)."""
     out = blows({"tau1": [0.0, 2e4]}, 23e3, 0.05, t_max=10.0)
-    assert out["t_rest"][0] == math.inf and all(math.isnan(out[n][0]) for n in RESULTS[:5])
+    assert out["t_rest"][0] == math.inf and all(math.isnan(out[n][0]) for n in RESULTS[:6])
     assert math.isfinite(out["t_rest"][1]) and out["u_pipe"][1] > 0.0
 
 

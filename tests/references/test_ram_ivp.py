@@ -139,11 +139,58 @@ def test_a_riding_ram_stays_on_a_pipe_still_pressing_after_a_load_change():
         assert out["F_head"] == pytest.approx(q2 * M1 / (M1 + m), rel=1e-12)
 
 
-def _random_case(rng):
+def test_a_direct_strike_against_the_face_alone():
+    """m = 3 kg at v0 = 5 m/s on a free pipe, e = 1: the pipe leaves at 2 m v0 / (m + M1) and
+    the face's Qf = q_face S1 stops it after M1 v^2 / (2 Qf), all its energy W_face."""
+    m, q_face = 3.0, 2e6
+    s = System(FREE, False)
+    v = 2.0 * m * V0 / (m + s.M1)
+    out = simulate_ram(dict(FREE, q_face=q_face), dict(mass=m, k=0.0, e=1.0),
+                       [(0.0, "strike", V0)], np.array([1.0]))
+    assert out["u_pipe"][0] == pytest.approx(s.M1 * v * v / (2.0 * q_face * s.S1), rel=1e-12)
+    assert out["W_face"][0] == pytest.approx(0.5 * s.M1 * v * v, rel=1e-12)
+    assert out["v_pipe"][0] == 0.0
+
+
+@pytest.mark.parametrize("q_plug_face, cored", [(1e5, False), (2e6, True)])
+def test_a_held_pipe_goes_at_its_hold_with_the_plug_carried_or_cored(q_plug_face, cored):
+    """A ram on a held pipe oscillates alone, F = v0 sqrt(k m) sin(omega t), omega = sqrt(k /
+    m). The joint stuck problem holds the pipe while F <= F1 + Qf + min(Qp, F2): the pipe goes
+    at asin(hold / peak) / omega; with Qp > F2 it slides over the plug, which its face holds
+    (u_plug = 0 throughout), else it carries the plug along (which the cushion's push then
+    makes slip). Neither goes back, so W_face = Qf u_pipe + Qp u_plug. The exact solver
+    alike, and within 1e-9 of the reference."""
+    m, k = 50.0, 2e6
+    peak, omega = V0 * math.sqrt(k * m), math.sqrt(k / m)
+    params = dict(tau1=2e4, tau2=2e4, L2=0.5, rho2=1800.0, q_face=5e6, q_plug_face=q_plug_face)
+    s = System({k_: v for k_, v in params.items() if not k_.startswith("q_")}, False)
+    qf, qp = params["q_face"] * s.S1, q_plug_face * s.S2
+    assert (qp > s.c2) == cored
+    hold = s.c1_full + qf + min(qp, s.c2)
+    assert hold < 0.9 * peak
+    t = np.linspace(0.0, 3.0 * math.pi / omega, 41)[1:]
+    out = simulate_ram(params, dict(mass=m, k=k, e=1.0), [(0.0, "strike", V0)], t)
+    assert _event_times(out, "pipe breaks away +")[0] == pytest.approx(
+        math.asin(hold / peak) / omega, rel=1e-10)
+    core = _core(params, dict(mass=m, k=k, e=1.0), [(0.0, "strike", V0)], list(t))
+    for run in (out, core):
+        assert run["u_pipe"][-1] > 0.0
+        assert np.all(run["u_plug"] == 0.0) if cored else run["u_plug"][-1] > 0.0
+        assert run["W_face"][-1] == pytest.approx(
+            qf * run["u_pipe"][-1] + qp * run["u_plug"][-1], rel=1e-9)
+    for name in ("u_pipe", "u_plug", "v_pipe", "v_plug", "W_face", "W_friction"):
+        scale = np.abs(out[name]).max() or 1.0
+        assert np.abs(core[name] - out[name]).max() <= 1e-9 * scale, name
+
+
+def _random_case(rng, face=False):
     params = dict(tau1=float(rng.choice([0.0, rng.uniform(0.0, 3e4)])),
                   tau2=float(rng.choice([0.0, rng.uniform(0.0, 2e5)])),
                   L2=float(rng.choice([0.0, rng.uniform(0.05, 1.0), 1.0])),
                   rho2=float(10.0 ** rng.uniform(1.0, 4.0)))
+    if face:          # Qf up to 14 kN on the annulus, Qp up to 2 kN on the plug's face
+        params.update(q_face=float(rng.choice([0.0, rng.uniform(0.0, 2e7)])),
+                      q_plug_face=float(rng.uniform(0.0, 5e5)))
     ram = dict(mass=float(M1 * 10.0 ** rng.uniform(-1.0, 1.5)),
                k=float(rng.choice([0.0, 10.0 ** rng.uniform(5.0, 8.0)])),
                e=float(rng.choice([1.0, rng.uniform(0.2, 0.9)])))
@@ -174,13 +221,14 @@ def _core(params, ram, history, times):
 
 
 FAMILIES = (("v_pipe", "v_plug", "v_ram"), ("u_pipe", "u_plug"),
-            ("W_input", "W_friction", "W_cushion", "E_kinetic", "W_ram", "E_strain"))
+            ("W_input", "W_friction", "W_cushion", "E_kinetic", "W_ram", "E_strain", "W_face"))
 
 
-@pytest.mark.parametrize("seed", range(10))
-def test_the_exact_solver_agrees_with_the_reference_on_random_strikes(seed):
+@pytest.mark.parametrize("seed, face", [(s, False) for s in range(10)]
+                         + [(s, True) for s in range(10, 15)])
+def test_the_exact_solver_agrees_with_the_reference_on_random_strikes(seed, face):
     rng = np.random.default_rng(seed)
-    params, ram, history, stop = _random_case(rng)
+    params, ram, history, stop = _random_case(rng, face)
     times = np.unique(np.r_[np.linspace(0.0, stop, 200)[1:], rng.uniform(0.0, stop, 50)])
     ref = simulate_ram(params, ram, history, times)
     core = _core(params, ram, history, list(times))
@@ -195,7 +243,7 @@ def test_imports_nothing_of_the_project():
     roots = {a.name.split(".")[0] for n in ast.walk(tree) if isinstance(n, ast.Import)
              for a in n.names}
     roots |= {n.module.split(".")[0] for n in ast.walk(tree) if isinstance(n, ast.ImportFrom)}
-    assert roots <= {"__future__", "numpy", "scipy", "rigid_ivp"}
+    assert roots <= {"__future__", "numpy", "scipy", "rigid_ivp", "face_ivp"}
 
 
 def test_a_plug_carried_at_its_limit_leaves_as_the_cushion_loads():

@@ -75,13 +75,14 @@ def _sign(x):
 
 
 @jitable
-def face_modes(par, m1, q, u1, v1, v2, kick):
+def face_modes(par, m1, q, u1, v1, v2, kick, kick1):
     """The contact modes ``(s1, s2, s3)`` at an origin and the soil's and the plug's forces on
     the pipe and the soil's on the plug ``(f1, f2, f3)`` [N] (sliding or static) under the force
-    ``q`` [N] on a pipe of mass ``m1`` [kg].
+    ``q`` [N] on a pipe of mass ``m1`` [kg] (with a riding ram, the ram's too).
 
     As :func:`~pipeplug.rigid.pieces.contact_modes`: sliding contacts keep their modes and
-    forces; stuck ones are decided jointly under them. ``kick`` makes a stuck plug slide.
+    forces; stuck ones are decided jointly under them. ``kick`` makes a stuck plug slide,
+    ``kick1`` (-1, 0, 1) a stuck pipe (a ram's cushion pushing it past the soil's hold).
     """
     m2, f2_limit, qp = par[P_M2], par[P_F2], par[P_QP]
     coupled = par[P_COUPLED] != 0.0
@@ -89,6 +90,8 @@ def face_modes(par, m1, q, u1, v1, v2, kick):
     c1 = limit(law, u1)
     c1p = c1 + par[P_QF] * face_on(law, u1)
     s1 = _sign(v1)
+    if s1 == 0:
+        s1 = kick1
     s2 = _sign(v1 - v2) if coupled else 0
     s3 = _sign(v2) if coupled else 0
     f1 = sliding_force(s1, c1p, c1) if s1 != 0 else 0.0
@@ -110,6 +113,10 @@ def face_modes(par, m1, q, u1, v1, v2, kick):
         s2 = kick if kick != 0 else p2
     if s3 == 0:
         s3 = p3 if s2 != 0 else s1        # a carried plug moves with the pipe
+    if kick1 != 0 and v1 == 0.0 and s2 == 0 and coupled:
+        # pushed past its hold, the pipe carries the plug: the face's sliding force (the joint
+        # problem, at the threshold, may have left it a static share of the other sign)
+        return s1, s2, s3, f1 + g1, f2 + g2, sliding_force(s3, qp, 0.0)
     return s1, s2, s3, f1 + g1, f2 + g2, f3 + g3
 
 
@@ -120,7 +127,7 @@ def make_face_piece(st, par, t0, u1, v1, u2, v2, q, kick):
     m1, m2, f2_limit = par[P_M1], par[P_M2], par[P_F2]
     coupled = par[P_COUPLED] != 0.0
     law = law_of(par)
-    s1, s2, s3, f1, f2, f3 = face_modes(par, m1, q, u1, v1, v2, kick)
+    s1, s2, s3, f1, f2, f3 = face_modes(par, m1, q, u1, v1, v2, kick, 0)
     st[T0], st[U1], st[V1], st[U2], st[V2] = t0, u1, v1, u2, v2
     st[S1], st[S2], st[S3] = float(s1), float(s2), float(s3)
     st[A1] = st[K1] = st[W1] = st[A2] = st[K2] = st[W2] = 0.0     # at rest until set

@@ -38,6 +38,15 @@ Exact pieces (model I: the soil's friction is constant while the pipe slides; al
   is taken as perfectly plastic (the rest of a sequence of hops of a pipe stopping between
   impacts moves the bodies by less than round-off).
 
+With the soil's end resistance (:mod:`~pipeplug.rigid.face`; model I: the front end is always in
+the soil) the pieces keep their forms: the soil's end forces are constant while a body slides
+(``FACE1 = -Qf`` on a pipe advancing, ``FACE3 = -Qp`` on a plug advancing, 0 retreating), so they
+join the load of what moves; the modes are decided by the three-contact problem
+(:func:`~pipeplug.rigid.face.face_modes`); a held pipe breaks away forward where the cushion's
+force passes the shaft's hold, Qf and what the plug adds (carried, Qp; cored, F2); a plug sliding
+in the soil stops there (``PLUG_STOP``); a carried plug breaks away where the force it needs, its
+face's included, reaches F2.
+
 Model II (the soil's friction growing with the penetration) with a ram gives two coupled
 frequencies and is refused when the model is built, as is the paper's explicit scheme.
 
@@ -51,8 +60,9 @@ from __future__ import annotations
 
 import math
 
-from ..contact.outer import limit, segment
+from ..contact.outer import face_on, limit, segment
 from ..jit import jitable
+from .face import face_modes, make_face_piece
 from .motion import LINE_AND_SINE, line_and_sine, motion, refine_root, time_to_rest, travel, ulp
 from .pieces import (
     AT_REST,
@@ -81,6 +91,8 @@ from .record import (
     DV,
     DW,
     END,
+    FACE1,
+    FACE3,
     FC0,
     FORCE0,
     FS1,
@@ -95,16 +107,20 @@ from .record import (
     P_E,
     P_E2,
     P_F2,
+    P_FACE,
     P_K,
     P_KU,
     P_M1,
     P_M2,
+    P_QF,
+    P_QP,
     P_RAM_M,
     RAM,
     RAM_ON,
     RHO,
     S1,
     S2,
+    S3,
     T0,
     U1,
     U2,
@@ -158,14 +174,41 @@ def rel_of(st):
 
 
 @jitable
-def _sliding_load(par, q, u1, s1, s2, m1):
+def _sliding_load(par, q, u1, s1, s2, m1, face1, face3):
     """``(G [N], M [kg])``: the load with the sliding friction and the mass of what moves with
     the pipe sliding in direction ``s1`` (the plug carried when ``s2 = 0``), pipe of mass
-    ``m1`` [kg] (with a riding ram); the soil's friction is constant (model I)."""
+    ``m1`` [kg] (with a riding ram); the soil's friction is constant (model I), its end forces
+    ``face1`` on the pipe and ``face3`` on the plug [N] too (0 without end resistance)."""
     force0 = segment(law_of(par), u1, float(s1))[0]
+    ends = face1 + face3 if s2 == 0 else face1
+    g = q + force0
+    if ends != 0.0:                   # (no addition of 0: a zero keeps its sign)
+        g += ends
     if s2 == 0:
-        return q + force0, m1 + par[P_M2]
-    return q + force0 - s2 * par[P_F2], m1
+        return g, m1 + par[P_M2]
+    return g - s2 * par[P_F2], m1
+
+
+@jitable
+def _modes(par, m1, q, u1, v1, v2, kick, kick1):
+    """The contact modes and forces at an origin under ``q`` [N] on a pipe of mass ``m1`` [kg]:
+    ``(s1, s2, s3, f1, f2, face1, face3)``, the held contacts' forces ``f1`` (the shaft's),
+    ``f2`` [N] and the soil's end forces on pipe and plug [N] (sliding or static; ``s3``,
+    ``face1``, ``face3`` 0 without end resistance: :func:`~pipeplug.rigid.pieces.
+    contact_modes` alone decides then)."""
+    if par[P_FACE] == 0.0:
+        s1, s2, f1s, f2s, f1_sliding, f2_sliding = contact_modes(par, m1, q, u1, v1, v2, kick,
+                                                                 kick1)
+        return s1, s2, 0, f1_sliding + f1s, f2_sliding + f2s, 0.0, 0.0
+    s1, s2, s3, f1, f2, f3 = face_modes(par, m1, q, u1, v1, v2, kick, kick1)
+    law = law_of(par)
+    if s1 == 0:
+        shaft = max(f1, -limit(law, u1))            # the shaft friction holds first
+        face1 = f1 - shaft
+        f1 = shaft
+    else:
+        face1 = -par[P_QF] * face_on(law, u1) if s1 > 0 else 0.0
+    return s1, s2, s3, f1, f2, face1, f3 if par[P_COUPLED] != 0.0 else 0.0
 
 
 @jitable
@@ -174,7 +217,10 @@ def make_ram_piece(st, par, t0, u1, v1, u2, v2, q, kick):
     ram's kind at the origin (the ram's origin values are in ``st``: D0, VR, DMAX, KICK1, ZW)
     and write the piece's closed-form motions."""
     if st[RAM_ON] == 0.0:             # not struck yet: the pipe alone, as without a ram
-        make_piece(st, par, t0, u1, v1, u2, v2, q, kick)
+        if par[P_FACE] != 0.0:
+            make_face_piece(st, par, t0, u1, v1, u2, v2, q, kick)
+        else:
+            make_piece(st, par, t0, u1, v1, u2, v2, q, kick)
         _no_coupling(st)
         st[RAM] = NONE
         return
@@ -192,32 +238,35 @@ def make_ram_piece(st, par, t0, u1, v1, u2, v2, q, kick):
     if not cushion and delta == 0.0 and vr == v1:
         # Touching without closing: the ram rides when the pipe alone would slow down (it
         # presses on the ram), else the pipe leaves it.
-        s1, s2, _, _, _, _ = contact_modes(par, m1, q, u1, v1, v2, kick, kick1)
+        s1, s2, _, _, _, face1, face3 = _modes(par, m1, q, u1, v1, v2, kick, kick1)
         if s1 != 0:
-            g, mass = _sliding_load(par, q, u1, s1, s2, m1)
+            g, mass = _sliding_load(par, q, u1, s1, s2, m1, face1, face3)
             riding = g / mass < 0.0
     m_pipe = m1 + mr if riding else m1
-    s1, s2, f1s, f2s, f1_sliding, f2_sliding = contact_modes(par, m_pipe, q + fc, u1, v1, v2, kick,
-                                                      kick1)
+    s1, s2, s3, f1, f2, face1, face3 = _modes(par, m_pipe, q + fc, u1, v1, v2, kick, kick1)
     st[T0], st[U1], st[V1], st[U2], st[V2] = t0, u1, v1, u2, v2
     st[S1], st[S2] = float(s1), float(s2)
     st[A1] = st[K1] = st[W1] = st[A2] = st[K2] = st[W2] = 0.0
     _no_coupling(st)
     st[FC0] = fc
-    if s2 != 0:
+    if par[P_FACE] != 0.0:
+        st[S3], st[FACE1], st[FACE3] = float(s3), face1, face3
+        if s2 != 0 and s3 != 0:       # the plug slides in the pipe and in the soil: uniform
+            st[A2] = (s2 * par[P_F2] + face3) / m2
+    elif s2 != 0:
         st[A2] = s2 * par[P_F2] / m2
     g, mass, a1 = 0.0, m_pipe, 0.0
     if s1 == 0:
-        st[FS1] = f1_sliding + f1s
+        st[FS1] = f1
         if s2 == 0:
-            st[KIND], st[FS2] = AT_REST, f2_sliding + f2s
+            st[KIND], st[FS2] = AT_REST, f2
         else:
             st[KIND] = PLUG_SLIDES
     else:
         force0, kappa, end = segment(law_of(par), u1, float(s1))
         st[FORCE0], st[KAPPA], st[END] = force0, kappa, end
         st[KIND] = TOGETHER if s2 == 0 else BOTH_SLIDE
-        g, mass = _sliding_load(par, q, u1, s1, s2, m_pipe)
+        g, mass = _sliding_load(par, q, u1, s1, s2, m_pipe, face1, face3)
         a1 = (g + fc) / mass
     closing = vr - v1
     if riding:
@@ -316,6 +365,8 @@ def _zeno_fits(st, par):
         if not (s2 * (st[V1] - st[V2]) > 0.0 and s2 * (v1_before - v2_first) > 0.0
                 and s2 * (v1_after - v2_first) > 0.0 and s2 * (v1_limit - v2_limit) >= 0.0):
             return False
+        if st[S3] != 0.0 and not st[S3] * v2_limit > 0.0:
+            return False              # the plug would stop in the soil (its face) on the way
     return True
 
 
@@ -419,17 +470,24 @@ def ram_state(st, par, dt, v1):
 
 @jitable
 def ram_forces(st, par, u1, fc, dt):
-    """Friction forces on the pipe ``(f1, f2)`` [N] at ``dt`` [s] into the piece, the pipe at
-    ``u1`` [m] and the cushion pushing with ``fc`` [N]."""
+    """Friction forces on the pipe ``(f1, f2)`` [N] and the soil's end force on its front end
+    [N] at ``dt`` [s] into the piece, the pipe at ``u1`` [m] and the cushion pushing with
+    ``fc`` [N]."""
     f1, f2 = forces_of(st, par, u1)
+    face = st[FACE1]
     if st[KIND] == AT_REST or st[KIND] == PLUG_SLIDES:
-        return f1 - (fc - st[FC0]), f2           # the soil holds what the cushion adds
+        f1 = f1 - (fc - st[FC0])                # the soil holds what the cushion adds
+        if par[P_FACE] != 0.0:                  # the shaft first, the front end the rest
+            total = f1 + face
+            f1 = max(total, -limit(law_of(par), u1))
+            face = total - f1
+        return f1, f2, face
     rho = st[RHO]
     if rho != 0.0 and st[KIND] == TOGETHER and par[P_COUPLED] != 0.0:
         dd = travel(rel_of(st), dt)[0]
         a1 = st[A1] - rho * (st[DA] - st[DK] * dd)   # the carried plug needs M2 a1
-        return f1, -par[P_M2] * a1
-    return f1, f2
+        return f1, -(par[P_M2] * a1 - st[FACE3]), face
+    return f1, f2, face
 
 
 @jitable
@@ -581,11 +639,14 @@ def _coupled_events(st, par, horizon):
     if st[KIND] == BOTH_SLIDE:
         line = _velocity_line(st, st[V1] - st[V2], st[A1] - st[A2])
         t_b, label = first_crossing(line, st[S2], t_lim, False), STICK
+        if st[S3] != 0.0 and par[P_QP] > 0.0:
+            # the plug, sliding uniformly in the soil, stops where its face's force switches
+            t_b, label = _merge(t_b, label, time_to_rest(plug_of(st), st[S3]), PLUG_STOP)
     elif par[P_COUPLED] != 0.0:
-        # the carried plug needs M2 a1(t), a1 = the derivative of the pipe's velocity
+        # the carried plug needs M2 a1(t) - f3 (f3 its face's force, FACE3)
         c0, c1, c2, c3, w = _velocity_line(st, st[V1], st[A1])
-        plug_limit = par[P_F2] / par[P_M2]
         for s in (1, -1):
+            plug_limit = (par[P_F2] + s * st[FACE3]) / par[P_M2]
             line = (plug_limit - s * (c1 + c3), 0.0, s * c3, -s * c2 * w * w, w)
             t = first_crossing(line, 1.0, t_lim, True)
             if t < t_b:
@@ -617,13 +678,29 @@ def _cushion_events(st, par, t_lim):
         hold = limit(law_of(par), st[U1])
         q = st[Q] if st[Q] == st[Q] else 0.0
         kb = st[KB]
+        ahead = hold
+        if par[P_FACE] != 0.0:
+            ahead, f2 = _held_ahead(st, par, hold)
         for s in (1, -1):
-            reach = st[DB] + (s * hold - q - f2) / kb
+            reach = st[DB] + ((ahead if s == 1 else -hold) - q - f2) / kb
             if s == -1 and not reach > st[DB]:
                 continue               # the cushion pulls never: its force cannot hold less
             t = first_crossing(_level(st, reach, -s), 1.0, min(t_lim, t_ev), True)
             t_ev, labels = _merge(t_ev, labels, t, PIPE_GO_POS if s == 1 else PIPE_GO_NEG)
     return t_ev, labels
+
+
+@jitable
+def _held_ahead(st, par, hold):
+    """``(limit [N], f2 [N])`` with end resistance: the force on a held pipe at which it
+    advances, and the plug's force on it to count beside the load. The soil holds the shaft's
+    ``hold`` and Qf; a plug stuck to the pipe adds the lesser of its face's Qp (carried along)
+    and its friction F2 (the pipe sliding over it); a plug sliding in the pipe its friction's
+    sliding force. Retreating, neither face resists (the plug goes back with the pipe)."""
+    if st[KIND] == AT_REST:
+        extra = min(par[P_QP], par[P_F2]) if par[P_COUPLED] != 0.0 else 0.0
+        return hold + par[P_QF] + extra, 0.0
+    return hold + par[P_QF], -st[S2] * par[P_F2]
 
 
 @jitable

@@ -51,6 +51,8 @@ from .record import (
     DV,
     DW,
     EXT_T,
+    FACE1,
+    FACE3,
     HORIZON,
     KICK,
     KICK1,
@@ -59,12 +61,15 @@ from .record import (
     N_HIGH,
     N_LOW,
     P_COUPLED,
+    P_F2,
+    P_FACE,
     P_K,
     P_KU,
     P_L2,
     P_LAW,
     P_M1,
     P_M2,
+    P_QP,
     P_RAM_M,
     P_S1,
     RAM,
@@ -83,6 +88,7 @@ from .record import (
     VR,
     VSCALE,
     W_CUSH,
+    W_FACE,
     W_IN,
     W_INNER,
     W_OUTER,
@@ -122,6 +128,22 @@ def values_at(st, par, t):
     w_in = st[W_IN] + (q * d1 if q == q else 0.0)
     return (st[U1] + d1, v1, st[U2] + d2, v2, w_in, st[W_OUTER] + outer,
             st[W_INNER] + inner)
+
+
+@jitable
+def face_work_at(st, par, t):
+    """The work done against the end resistance since t = 0 [J] at absolute time ``t`` [s] in
+    the current piece: the work before it and the piece's, from the displacements
+    (:func:`pipeplug.rigid.face.face_work_at` with the ram's pieces)."""
+    d1, _, d2, _ = travels(st, par, t - st[T0])
+    return st[W_FACE] - st[FACE1] * d1 - st[FACE3] * d2
+
+
+@jitable
+def _book_face(st, par, t):
+    """Book the end resistance's work up to ``t`` [s] before a new piece starts there."""
+    if par[P_FACE] != 0.0:
+        st[W_FACE] = face_work_at(st, par, t)
 
 
 @jitable
@@ -168,6 +190,7 @@ def _restart(st, par, log, q, t_end):
     """A new piece at the current time under a new force ``q`` [N]."""
     t = st[TIME]
     u1, v1, u2, v2, w_in, w_outer, w_inner, delta, v_ram, delta_max, loss, _ = _now(st, par, t)
+    _book_face(st, par, t)
     _origin(st, delta, v_ram, delta_max, loss, 0.0, 0.0)
     ram_start_piece(st, par, log, t, u1, v1, u2, v2, w_in, w_outer, w_inner, q, 0, t_end - t)
 
@@ -180,6 +203,7 @@ def strike(st, par, log, velocity):
     held is lost. ``log`` must have room for one piece's modes."""
     t = st[TIME]
     u1, v1, u2, v2, w_in, w_outer, w_inner, _, v_ram, _, loss, fc = _now(st, par, t)
+    _book_face(st, par, t)
     if par[P_K] > 0.0:
         loss += fc * fc / (2.0 * par[P_KU])
     mr = par[P_RAM_M]
@@ -231,6 +255,7 @@ def _take_event(st, par, log):
     t = st[T_EVENT]
     u1, v1, u2, v2, w_in, w_outer, w_inner = values_at(st, par, t)
     delta, v_ram, delta_max, loss, _ = ram_state(st, par, t - st[T0], v1)
+    _book_face(st, par, t)
     labels = int(st[LABELS])
     riding = st[RAM] == RIDING
     v1, v2, kick = pipe_plug_events(st, par, labels, _pipe_mass(par, riding), v1, v2)
@@ -238,6 +263,9 @@ def _take_event(st, par, log):
     kick1 = 0.0
     if labels & PIPE_GO_POS:
         kick1 = 1.0
+        if par[P_FACE] != 0.0 and st[KIND] == AT_REST and par[P_QP] > par[P_F2] \
+                and par[P_COUPLED] != 0.0:
+            kick = 1                  # released at F1 + Qf + F2: the pipe slides over the plug
     if labels & PIPE_GO_NEG:
         kick1 = -1.0
     if riding:
@@ -272,10 +300,10 @@ def _axial(st, par, t):
     u1, v1, u2, v2, w_in, w_outer, w_inner = values_at(st, par, t)
     dt = t - st[T0]
     fc = ram_state(st, par, dt, v1)[4]
-    f1, f2 = ram_forces(st, par, u1, fc, dt)
+    f1, f2, face = ram_forces(st, par, u1, fc, dt)
     q = st[Q] if st[Q] == st[Q] else 0.0
     return axial_extremes(q + fc, f1, f2, par[P_LAW + 3], contact_length(law_of(par), u1),
-                          par[P_L2])
+                          par[P_L2], face)
 
 
 @jitable
@@ -347,7 +375,7 @@ def ram_outputs_at(st, par, t):
     u1, v1, u2, v2, w_in, w_outer, w_inner = values_at(st, par, t)
     dt = t - st[T0]
     _, v_ram, _, loss, fc = ram_state(st, par, dt, v1)
-    f1, f2 = ram_forces(st, par, u1, fc, dt)
+    f1, f2, _ = ram_forces(st, par, u1, fc, dt)
     mr = par[P_RAM_M]
     kinetic_ram = 0.5 * mr * v_ram * v_ram
     held = fc * fc / (2.0 * par[P_KU]) if par[P_K] > 0.0 else 0.0
@@ -357,9 +385,10 @@ def ram_outputs_at(st, par, t):
     transferred = w_in + st[W_RAM] - kinetic_ram - held - loss
     area = par[P_S1]
     rest = 1.0 if ram_at_rest(st) else 0.0
+    w_face = face_work_at(st, par, t) if par[P_FACE] != 0.0 else 0.0
     return (v1, v2, u1, u2, f1, f2, w_in, w_outer + w_inner, w_outer, w_inner, kinetic, held,
             0.0, head, v_ram, st[W_RAM], loss, transferred, -head / area, st[N_LOW] / area,
-            st[N_HIGH] / area, rest, st[S1], st[S2], 0.0)
+            st[N_HIGH] / area, rest, st[S1], st[S2], w_face)
 
 
 @jitable
@@ -375,6 +404,6 @@ def ram_sample_into(st, par, log, loads, times, table, first):
         if code != OK:
             return code, j
         out = ram_outputs_at(st, par, times[j])
-        for i in range(table.shape[0]):
+        for i in range(len(out)):     # W_damping, after them, stays 0 (no ram is damped)
             table[i, j] = out[i]
     return OK, n

@@ -10,16 +10,17 @@ from __future__ import annotations
 import argparse
 
 from pipeplug_harness import io
-from pipeplug_harness.errors import RunFailed
+from pipeplug_harness.errors import RunFailed, UserError
 from pipeplug_harness.fmus import find_fmu
 from pipeplug_harness.scene.command import _distinct
+from pipeplug_harness.session import fmu_inputs
 
 from .checks import DriveInvalid
 from .file import load_drive
-from .plots import plot_drivability, plot_penetration
+from .plots import plot_drivability, plot_penetration, plot_plug
 from .progress import DriveProgress
 from .report import summary, write_csv
-from .run import run_drive
+from .run import check_inputs, run_drive
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
@@ -33,6 +34,12 @@ def main(args: argparse.Namespace) -> int:
     specs = [load_drive(path, args.limits) for path in args.drive]     # every file checked first
     _distinct([s.name for s in specs], args.drive)
     fmu = find_fmu(args.fmu)
+    inputs = fmu_inputs(fmu)
+    for path, spec in zip(args.drive, specs):          # before any output is written
+        try:
+            check_inputs(spec, inputs)
+        except UserError as exc:
+            raise exc.in_file(path) from None
     with io.OutputFolder(args.out, "drive") as out:
         for path, spec in zip(args.drive, specs):
             print(f"{spec.name}: {spec.reason}", flush=True)
@@ -46,7 +53,8 @@ def main(args: argparse.Namespace) -> int:
                     from None
             csv_path = write_csv(out.file(f"{spec.name}.csv"), result)
             pngs = (plot_penetration(out.file(f"{spec.name}_penetration.png"), result),
-                    plot_drivability(out.file(f"{spec.name}_drivability.png"), result))
+                    plot_drivability(out.file(f"{spec.name}_drivability.png"), result),
+                    plot_plug(out.file(f"{spec.name}_plug.png"), result))
             print(summary(result), flush=True)
-            print(f"  wrote {csv_path}, {pngs[0]} and {pngs[1]}", flush=True)
+            print(f"  wrote {csv_path}, {', '.join(map(str, pngs))}", flush=True)
     return 0

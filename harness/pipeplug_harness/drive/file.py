@@ -30,6 +30,11 @@ a ``[drive]`` section::
     step = 1e-4             # [s] communication step while the blow acts and just after it
                             #     (default: duration / 10; elastic: rounded down to whole
                             #     internal steps, see pipeplug_harness.drive.run)
+    cleanout_at = ["2 m", "4.5 m"]   # clean the plug out before the first blow at or past
+                            #     each penetration [m], or
+    cleanout_at_blows = [300, 600]   # before each of these blows (not both; ascending):
+                            #     the FMU's input cleanouts rises by one there (an FMU without
+                            #     that input refuses the drive)
 
 A set threshold of 0 leaves only the other refusal: a blow that does not move the front end at
 all (static friction holds it). Unknown sections, keys or values are errors naming the allowed
@@ -37,6 +42,7 @@ ones; every parameter is then checked by the core itself (:func:`check_with_core
 """
 from __future__ import annotations
 
+import bisect
 import math
 from dataclasses import dataclass
 from pathlib import Path
@@ -47,7 +53,7 @@ from pipeplug_harness.errors import UserError
 from pipeplug_harness.limits import Limits
 from pipeplug_harness.session import split_start_values
 
-__all__ = ["DriveSpec", "Hammer", "DEFAULT_REFUSAL", "GRID_CELLS", "load_drive", "drive_spec",
+__all__ = ["DriveSpec", "Hammer", "Cleanouts", "DEFAULT_REFUSAL", "GRID_CELLS", "load_drive", "drive_spec",
            "check_with_core", "grid_for"]
 
 #: The default refusal of pile-driving practice: 10 blows per 25 mm.
@@ -65,6 +71,26 @@ class Hammer:
     efficiency: float        #: [1]
     ram_mass: float          #: [kg]
     v_strike: float          #: sqrt(2 efficiency rated_energy / ram_mass) [m/s]
+
+
+@dataclass(frozen=True)
+class Cleanouts:
+    """When a drive cleans the plug out: before the first blow that starts at or past each
+    penetration of ``at`` [m] (``by = "penetration"``), or before each blow numbered in ``at``
+    (``by = "blow"``); ascending."""
+
+    by: str                  #: "penetration" or "blow"
+    at: tuple                #: penetrations [m] or blow numbers (1, 2, ...)
+
+    @property
+    def key(self) -> str:
+        """The drive file's key that gave them."""
+        return "[drive] cleanout_at" + ("_blows" if self.by == "blow" else "")
+
+    def passed(self, blow: int, penetration: float) -> int:
+        """How many clean-outs are due before blow ``blow`` (1, 2, ...) starting at
+        ``penetration`` [m]: the values reached so far."""
+        return bisect.bisect_right(self.at, blow if self.by == "blow" else penetration)
 
 
 @dataclass(frozen=True)
@@ -89,6 +115,7 @@ class DriveSpec:
     grid: str = ""           #: the elastic model's grid and where dx came from
     hammer: Hammer | None = None   #: the blows are strikes of this ram (amplitude 0)
     yield_stress: float | None = None    #: [Pa]
+    cleanouts: Cleanouts | None = None   #: when the plug is cleaned out (None: never)
 
     @property
     def elastic(self) -> bool:
@@ -165,7 +192,7 @@ def drive_spec(name: str, values: dict, limits: Limits | None = None) -> DriveSp
     _bound(limits or Limits(), params, elastic, train, step, drive["max_blows"])
     return DriveSpec(name, start, train.amplitude, train.duration, train.period,
                      target, count, length, drive["max_blows"], step, reason, grid, hammer,
-                     drive["yield_stress"])
+                     drive["yield_stress"], _cleanouts(drive))
 
 
 class _Train(NamedTuple):
@@ -288,6 +315,18 @@ def _refusal(drive: dict) -> tuple[int, float]:
         raise UserError(f"[drive] refusal length = {length!r} m; allowed: >= 0 "
                          f"(0: only a blow that does not move the pipe is a refusal)")
     return count, length
+
+
+def _cleanouts(drive: dict) -> Cleanouts | None:
+    """The clean-outs of [drive] (None: none), by penetration or by blow, not both."""
+    at, blows = drive["cleanout_at"], drive["cleanout_at_blows"]
+    if at is not None and blows is not None:
+        raise UserError(f"[drive] cleanout_at = {list(at)!r} m and cleanout_at_blows = "
+                        f"{list(blows)!r} both given; allowed: one of them (clean-outs by "
+                        f"penetration or by blow number)")
+    if at is None and blows is None:
+        return None
+    return Cleanouts("penetration", at) if at is not None else Cleanouts("blow", blows)
 
 
 def check_with_core(start_values: dict):

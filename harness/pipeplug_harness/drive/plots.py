@@ -1,4 +1,5 @@
-"""The drive's two figures: penetration against blow number, and the drivability curve."""
+"""The drive's three figures: penetration against blow number, the drivability curve, and the
+plug and the pace against penetration."""
 from __future__ import annotations
 
 from pathlib import Path
@@ -8,9 +9,9 @@ import numpy as np
 from pipeplug_harness import io
 
 from .report import INTERVAL, blows_per_interval
-from .run import OUTCOMES, DriveResult
+from .run import IFR_TOL, OUTCOMES, DriveResult
 
-__all__ = ["plot_penetration", "plot_drivability", "describe_blow"]
+__all__ = ["plot_penetration", "plot_drivability", "plot_plug", "describe_blow"]
 
 
 def describe_blow(spec) -> str:
@@ -64,5 +65,57 @@ def plot_drivability(path: Path, result: DriveResult) -> Path:
     ax.set_xlim(0.0, max(result.spec.target, result.penetration))
     ax.set_title(_title(result), fontsize=8)
     ax.grid(alpha=0.3)
+    fig.tight_layout()
+    return io.save_png(fig, path)
+
+
+def _defined(values) -> np.ndarray:
+    """Values with those not defined (None) as gaps (NaN) in a line."""
+    return np.array([np.nan if v is None else v for v in values], dtype=float)
+
+
+def plot_plug(path: Path, result: DriveResult) -> Path:
+    """Against penetration: the plug's length and L2/s; each blow's IFR, coring or plugged;
+    each blow's metres per hour at the blow rate and the drive's overall. Ratios that are not
+    defined (no set, s <= 0) are gaps; clean-outs are vertical lines."""
+    blows = result.blows
+    depth = np.array([b.penetration for b in blows])
+    fig, (top, mid, low) = io.subplots(3, 1, figsize=(7.5, 7.6), sharex=True)
+    top.plot(depth, [b.L2 for b in blows], color="C1", lw=1.2, label="plug length L2")
+    top.set_ylabel("plug length L2 [m]")
+    top.set_ylim(0.0, 1.15 * max([b.L2 for b in blows] + [1e-3]))
+    ratio = top.twinx()
+    ratio.plot(depth, _defined(b.plr for b in blows), color="C2", lw=1.0, ls="--",
+               label="L2/s")
+    ratio.set_ylabel("plug length ratio L2/s [1]")
+    ratio.set_yscale("log")
+    top.legend(handles=top.get_lines() + ratio.get_lines(), fontsize=8, loc="center right")
+    ifr = _defined(b.ifr for b in blows)
+    for label, color in (("coring", "C3"), ("plugged", "C0")):
+        mine = np.array([b.plugging == label for b in blows])
+        mid.plot(depth[mine], ifr[mine], ".", ms=3, color=color,
+                 label=f"{label} ({mine.sum()} blows)")
+    undefined = sum(b.ifr is None for b in blows)
+    mid.axhline(IFR_TOL, color="0.5", lw=0.6, ls=":",
+                label=f"IFR = {IFR_TOL:g}: coring above" + (f"; {undefined} blows without "
+                                                             f"set: not defined"
+                                                             if undefined else ""))
+    mid.set_ylabel("IFR = dL2/ds per blow [1]")
+    mid.legend(fontsize=8, loc="upper right")
+    low.plot(depth, [b.metres_per_hour for b in blows], lw=0.8, color="C0", label="per blow")
+    if result.metres_per_hour is not None:
+        low.axhline(result.metres_per_hour, color="k", ls="--", lw=0.8,
+                    label=f"overall {result.metres_per_hour:.3g} m/h")
+    low.set_ylabel("m/h at the blow rate")
+    low.set_xlabel("penetration of the front end [m]")
+    low.set_ylim(bottom=0.0)
+    low.legend(fontsize=8, loc="upper right")
+    for ax in (top, mid, low):
+        for b in blows:
+            if b.cleanout:
+                ax.axvline(b.penetration - b.set, color="C4", lw=0.6, alpha=0.7)
+        ax.grid(alpha=0.3)
+    top.set_title(_title(result) + (f", {result.cleanouts} clean-outs (violet)"
+                                    if result.cleanouts else ""), fontsize=8)
     fig.tight_layout()
     return io.save_png(fig, path)

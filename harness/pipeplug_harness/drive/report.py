@@ -2,16 +2,16 @@
 from __future__ import annotations
 
 import math
-from dataclasses import astuple, fields
+from dataclasses import fields
 from pathlib import Path
 
 import numpy as np
 
 from pipeplug_harness import io
 
-from .run import OUTCOMES, Blow, DriveResult
+from .run import IFR_TOL, OUTCOMES, WORKS, Blow, DriveResult
 
-__all__ = ["write_csv", "blows_per_interval", "summary", "stresses", "INTERVAL", "COLUMNS"]
+__all__ = ["write_csv", "blows_per_interval", "summary", "stresses", "pace", "plug", "INTERVAL", "COLUMNS"]
 
 #: Penetration interval of the drivability curve [m].
 INTERVAL = 0.25
@@ -22,14 +22,22 @@ COLUMNS = {"blow": "-", "t_start": "s", "set": "m", "penetration": "m", "v_pipe_
            "W_friction_inner": "J", "v_pipe_end": "m/s", "v_plug_end": "m/s", "settled": "-",
            "motion": "s", "steps": "-", "ringing_friction": "J", "stress_head_min": "Pa",
            "stress_head_max": "Pa", "stress_min": "Pa", "stress_max": "Pa", "enthru": "J",
-           "enthru_share": "1"}
-assert tuple(COLUMNS) == tuple(f.name for f in fields(Blow))
+           "enthru_share": "1", "cleanout": "-", "L2": "m", "ifr": "1", "plr": "1",
+           "plugging": "-", "metres_per_hour": "m/h", **{name: "J" for name in WORKS}}
+assert tuple(COLUMNS) == tuple(f.name for f in fields(Blow) if f.name != "works") + WORKS
+
+
+def _row(blow: Blow) -> list:
+    """The blow's values in the order of :data:`COLUMNS` (``None``: not defined, an empty
+    field)."""
+    return [getattr(blow, f.name) for f in fields(Blow) if f.name != "works"] \
+        + [blow.works[name] for name in WORKS]
 
 
 def write_csv(path: Path, result: DriveResult) -> Path:
     """One row per blow, units in the header; works are the blow's own (its window's
-    increments)."""
-    return io.write_csv(path, list(COLUMNS), (astuple(blow) for blow in result.blows), COLUMNS)
+    increments); a ratio that is not defined is an empty field."""
+    return io.write_csv(path, list(COLUMNS), (_row(blow) for blow in result.blows), COLUMNS)
 
 
 def blows_per_interval(result: DriveResult, width: float = INTERVAL):
@@ -62,7 +70,34 @@ def summary(result: DriveResult) -> str:
     if result.outcome == "set":
         line += f" ({spec.refusal_text()})"
     return (line + f" at penetration {result.penetration:.6g} m (target {spec.target:.6g} m)"
-            + stresses(result))
+            + pace(result) + plug(result) + stresses(result))
+
+
+def pace(result: DriveResult) -> str:
+    """The drive's progress at the blow rate: overall, and the range of the blows' own."""
+    if not result.blows:
+        return ""
+    each = [b.metres_per_hour for b in result.blows]
+    return (f"; {result.metres_per_hour:.4g} m/h overall at the blow rate (blows "
+            f"{min(each):.3g} to {max(each):.3g} m/h)")
+
+
+def plug(result: DriveResult) -> str:
+    """The plug at the end: its length, L2/s, the last blow's IFR and label, clean-outs."""
+    if not result.blows:
+        return ""
+    last = result.blows[-1]
+    coring = sum(b.plugging == "coring" for b in result.blows)
+    text = (f"; plug {last.L2:.4g} m, L2/s {_ratio(last.plr)}, last IFR {_ratio(last.ifr)}"
+            f"{f' ({last.plugging})' if last.plugging else ''}, {coring} of "
+            f"{len(result.blows)} blows coring (IFR > {IFR_TOL:g})")
+    if result.spec.cleanouts is not None:
+        text += f", {result.cleanouts} clean-outs"
+    return text
+
+
+def _ratio(value: float | None) -> str:
+    return "not defined" if value is None else f"{value:.4g}"
 
 
 def stresses(result: DriveResult) -> str:

@@ -24,6 +24,17 @@ blow's edges are communication points (the FMU holds Q constant over a step). In
 
 The state is never reset: every blow starts from the state the previous one left.
 
+Clean-outs (``spec.cleanouts``): before a blow that is due one (by its number, or by the
+penetration it starts at) the input ``cleanouts`` rises by one at the blow's start, as a strike
+does; several due at once are one clean-out. A session without that input refuses the drive
+(:func:`check_inputs`).
+
+The plug (per blow): its length ``L2`` at the window's end (the output :data:`PLUG_LENGTH` when
+the model has it, else the fixed L2), the incremental filling ratio IFR = dL2/ds over the blow
+(from the length after a clean-out), the plug length ratio L2/s, and whether the soil cores into
+the pipe (IFR > :data:`IFR_TOL`) or the pipe is plugged; a ratio whose denominator is 0 (a blow
+that did not move the pipe; s <= 0) is not defined (``None``), never a number.
+
 Stopping (checked after each blow, in this order): the front end has gone in by ``target``;
 the blow did not move the front end at all (its set is exactly 0: static friction held it); the
 last ``refusal_count`` blows advanced it by less than ``refusal_length`` in all; ``max_blows``.
@@ -34,13 +45,16 @@ import math
 from dataclasses import dataclass, field
 from typing import NamedTuple
 
-from pipeplug import OUTPUTS, Outputs
+from pipeplug import OUTPUT_NAMES, OUTPUTS, PARAMETERS, Outputs
+from pipeplug.interface import LEDGER_SOURCES, LEDGER_TERMS
+from pipeplug_harness.errors import UserError
 from pipeplug_harness.session import CoreSession, FmuSession, Session
 
 from .checks import Limits, check_blow
 from .file import DriveSpec
 
-__all__ = ["Blow", "DriveResult", "run_drive", "run_drive_on_core", "drive_with", "OUTCOMES"]
+__all__ = ["Blow", "DriveResult", "run_drive", "run_drive_on_core", "drive_with", "OUTCOMES",
+           "PLUG_LENGTH", "IFR_TOL", "WORKS", "CLEANOUT_INPUT", "check_inputs"]
 
 #: outcome -> what it means (the summary's words)
 OUTCOMES = {
@@ -49,6 +63,19 @@ OUTCOMES = {
     "set": "refusal: set below the threshold",
     "max_blows": "stopped at max_blows, no refusal",
 }
+
+#: the output giving the plug's current length [m], when the model has it (a growing plug)
+PLUG_LENGTH = "L2_now"
+#: the input whose rise cleans the plug out, and the parameter the plug is cleaned down to
+CLEANOUT_INPUT, CLEANOUT_LENGTH = "cleanouts", "L2_after_cleanout"
+#: IFR above this is coring (soil enters the pipe as it advances); at or below, plugged. The
+#: plug's lengths are exact to round-off (a few ulps of L2 over a set of at least 1e-9 of it),
+#: so any growth the model makes shows; a plug that does not grow reads 0 exactly.
+IFR_TOL = 1e-6
+#: the works of the ledger reported per blow beside W_input and friction's two parts: every
+#: other work, by the ledger's table (so that the works of effects added later are reported)
+WORKS = tuple(n for n in LEDGER_SOURCES + LEDGER_TERMS
+              if n.startswith("W_") and n not in ("W_input", "W_friction"))
 
 #: the outputs at t = 0: at rest, nothing moved, no work done
 _ZERO = Outputs(*(True if o.kind == "Boolean" else 0 if o.kind == "Integer" else 0.0
@@ -84,6 +111,14 @@ class Blow:
     enthru: float             #: energy through the head over the window, the integral of
                               #: F_head times the head's velocity (ENTHRU) [J]
     enthru_share: float       #: ENTHRU over the hammer's rated energy [1] (NaN: no hammer)
+    cleanout: bool            #: the plug was cleaned out at the blow's start
+    L2: float                 #: plug length at the window's end [m]
+    ifr: float | None         #: incremental filling ratio dL2/ds over the blow [1] (None: not
+                              #: defined, the blow did not move the pipe)
+    plr: float | None         #: plug length ratio L2/s at the window's end [1] (None: s <= 0)
+    plugging: str             #: "coring" (ifr > IFR_TOL), "plugged", or "" (ifr not defined)
+    metres_per_hour: float    #: the blow's set at the blow rate: set x blows/min x 60 [m/h]
+    works: dict               #: :data:`WORKS` over the window [J] by name
 
 
 @dataclass
@@ -101,6 +136,16 @@ class DriveResult:
     def drive_time(self) -> float:
         """Drive time at the blow rate [s]: blows x period."""
         return len(self.blows) * self.spec.period
+
+    @property
+    def metres_per_hour(self) -> float | None:
+        """Penetration over the drive time at the blow rate [m/h] (None: no blow)."""
+        return 3600.0 * self.penetration / self.drive_time if self.blows else None
+
+    @property
+    def cleanouts(self) -> int:
+        """Clean-outs made."""
+        return sum(b.cleanout for b in self.blows)
 
 
 def run_drive(spec: DriveSpec, fmu, progress=None) -> DriveResult:
@@ -123,12 +168,15 @@ def drive_with(spec: DriveSpec, session: Session, progress=None) -> DriveResult:
     raises :class:`~pipeplug_harness.drive.checks.DriveInvalid` and no result is returned.
     ``progress(blow)`` is called after each blow (its :class:`Blow`).
     """
+    check_inputs(spec, session.inputs)
     result = DriveResult(spec)
     pace = _pace(spec)
     limits = Limits.of(spec)
-    before = _ZERO
+    before, plug, done = _ZERO, _Plug.of(spec), 0
     for k in range(spec.max_blows):
-        blow, before = _blow(session, spec, k, before, pace)
+        due = spec.cleanouts.passed(k + 1, before.u_pipe) if spec.cleanouts else 0
+        blow, before = _blow(session, spec, k, before, pace, plug, due > done)
+        done = due
         check_blow(limits, blow, before, (k + 1) * spec.period, session.steps)
         result.blows.append(blow)
         if progress is not None:
@@ -180,13 +228,58 @@ def _blow_points(t0: float, duration: float, pace: _Pace) -> list:
     return points
 
 
-def _blow(s: Session, spec: DriveSpec, k: int, before: Outputs,
-          pace: _Pace) -> tuple[Blow, Outputs]:
-    """Blow ``k`` and the motion after it, up to the next blow's start."""
+def check_inputs(spec: DriveSpec, inputs) -> None:
+    """Refuse a drive that needs an input the FMU (or model) does not have: clean-outs need
+    :data:`CLEANOUT_INPUT`.
+
+    Raises
+    ------
+    UserError
+        Naming the drive file's key, its values and the inputs there are.
+    """
+    if spec.cleanouts is not None and CLEANOUT_INPUT not in inputs:
+        raise UserError(key=spec.cleanouts.key, value=list(spec.cleanouts.at),
+                        allowed=f"none with this FMU: it has no input {CLEANOUT_INPUT!r} (a "
+                                f"plug that grows and is cleaned out); its inputs: "
+                                f"{', '.join(sorted(inputs))}")
+
+
+class _Plug:
+    """The plug's length: read from the outputs, or fixed; and where a clean-out leaves it."""
+
+    def __init__(self, initial: float, after_cleanout: float):
+        self.length = (lambda out: getattr(out, PLUG_LENGTH)) if PLUG_LENGTH in OUTPUT_NAMES \
+            else (lambda out: initial)
+        self.initial, self.after_cleanout = initial, after_cleanout
+        self.last = initial                   # at the last blow's end [m]
+
+    @classmethod
+    def of(cls, spec: DriveSpec) -> _Plug:
+        defaults = {p.name: p.default for p in PARAMETERS}
+        after = spec.start_values.get(CLEANOUT_LENGTH, defaults.get(CLEANOUT_LENGTH, 0.0))
+        return cls(spec.params().L2, after)
+
+    def blow(self, out: Outputs, cleaned: bool, moved: float, penetration: float) -> tuple:
+        """``(L2, ifr, plr, plugging)`` of a blow ending at ``out`` (the clean-out at its start
+        leaves at most ``after_cleanout``)."""
+        start = min(self.last, self.after_cleanout) if cleaned else self.last
+        self.last = length = self.length(out)
+        ifr = (length - start) / moved if moved != 0.0 else None
+        plr = length / penetration if penetration > 0.0 else None
+        label = "" if ifr is None else "coring" if ifr > IFR_TOL else "plugged"
+        return length, ifr, plr, label
+
+
+def _blow(s: Session, spec: DriveSpec, k: int, before: Outputs, pace: _Pace, plug: _Plug,
+          cleaned: bool) -> tuple[Blow, Outputs]:
+    """Blow ``k`` and the motion after it, up to the next blow's start (the plug cleaned out
+    at its start when ``cleaned``)."""
     t0, h, t_next = k * spec.period, pace.step, (k + 1) * spec.period
     steps0 = s.steps
     peaks = [before.v_pipe, before.v_plug, math.inf, -math.inf, math.inf, -math.inf]
     t = t0
+    if cleaned:
+        s.cleanout()
     if spec.hammer is not None:
         s.strike(spec.hammer.v_strike)
     for tb in _blow_points(t0, spec.duration, pace):
@@ -211,14 +304,17 @@ def _blow(s: Session, spec: DriveSpec, k: int, before: Outputs,
         else:
             still_since = None
         _raise(peaks, out)
-    blow = Blow(k + 1, t0, out.u_pipe - before.u_pipe, out.u_pipe, peaks[0], peaks[1],
+    moved = out.u_pipe - before.u_pipe
+    blow = Blow(k + 1, t0, moved, out.u_pipe, peaks[0], peaks[1],
                 out.W_input - before.W_input, out.W_friction_outer - before.W_friction_outer,
                 out.W_friction_inner - before.W_friction_inner, out.v_pipe, out.v_plug,
                 settled, motion, s.steps - steps0,
                 0.0 if still_since is None else _friction(out) - w_still, *peaks[2:],
                 out.E_transferred - before.E_transferred,
                 (out.E_transferred - before.E_transferred) / spec.hammer.rated_energy
-                if spec.hammer is not None else math.nan)
+                if spec.hammer is not None else math.nan,
+                cleaned, *plug.blow(out, cleaned, moved, out.u_pipe), 3600.0 * moved / spec.period,
+                {n: getattr(out, n) - getattr(before, n) for n in WORKS})
     return blow, out
 
 

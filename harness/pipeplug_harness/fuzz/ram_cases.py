@@ -10,7 +10,9 @@ strikes, drawn from the stream ``SeedSequence(seed, spawn_key=(index, 7))`` (SI 
   0.3-1;
 * strikes: 1-4 at 0.3-10 m/s (log-uniform), each at a load edge (half of them) or anywhere
   in the first 80 % of the run; every grid holds each strike's time, and so does every FMU
-  host's grid.
+  host's grid;
+* the soil's end resistance as the rigid cases draw it (:func:`~.cases.generate`, from its own
+  stream: a case without it is the case it was before it existed).
 """
 from __future__ import annotations
 
@@ -59,7 +61,7 @@ class RamCase:
 
 def generate_ram(seed: int, index: int, plan: Plan = _PLAN) -> RamCase:
     """Case ``index`` of the ram fuzz run ``seed`` (module docstring)."""
-    base = generate(seed, index, plan, faces=False)   # the rigid models' ram: no end resistance
+    base = generate(seed, index, plan)
     rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index, 7)))
     p = base.params
     M1 = p["rho1"] * math.pi * ((p["R1"] + p["h1"]) ** 2 - p["R1"] ** 2) * p["L1"]

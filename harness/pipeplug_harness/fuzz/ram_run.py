@@ -2,8 +2,8 @@
 
 Every case runs on every core path of the setup, on each of its grids (a strike starts at its
 grid point, before the step from there), with the checks that need no reference on every
-point: the ledger ``W_input + W_ram = E_kinetic + E_strain + W_friction + W_cushion`` with the
-kinetic energy of pipe, plug and ram from the paper's masses, every term's sign, friction works
+point: the ledger ``W_input + W_ram = E_kinetic + E_strain + W_friction + W_cushion + W_face``
+with the kinetic energy of pipe, plug and ram from the paper's masses, every term's sign, friction works
 never decreasing, stuck contacts still, the static limits; the grids must agree at the common
 sample times. Cases marked ``reference`` are compared with the ODE reference of model I with a
 ram (:mod:`pipeplug_references.ram_ivp`, which never imports the core); cases marked ``fmu``
@@ -17,6 +17,7 @@ import time
 import numpy as np
 
 from pipeplug import OUTPUT_NAMES
+from pipeplug.interface import LEDGER_SOURCES, LEDGER_TERMS
 
 from . import checks as ck
 from .cases import calls_of, loads_on, strikes_on_calls
@@ -29,9 +30,10 @@ __all__ = ["run_ram_case", "RAM_FAMILIES"]
 
 #: outputs compared with the reference, each on the scale of its family
 RAM_FAMILIES = (("v_pipe", "v_plug", "v_ram"), ("u_pipe", "u_plug"),
-                ("W_input", "W_friction", "W_cushion", "E_kinetic", "W_ram", "E_strain"))
-_LEDGER_IN, _LEDGER_OUT = ("W_input", "W_ram"), ("E_kinetic", "E_strain", "W_friction",
-                                                 "W_cushion", "W_numerical")
+                ("W_input", "W_friction", "W_cushion", "E_kinetic", "W_ram", "E_strain",
+                 "W_face"))
+#: the ledger's sources and terms (the core's table: W_face with end resistance)
+_LEDGER_IN, _LEDGER_OUT = LEDGER_SOURCES, LEDGER_TERMS
 
 
 def run_ram_case(case: RamCase, setup) -> CaseResult:
@@ -101,17 +103,18 @@ def ledger_error(rows, body: ck.Body, ram_mass: float) -> float:
 
 
 def sign_violations(rows) -> float:
-    """Points where E_kinetic, E_strain or W_cushion is negative (beyond 1e-12 of the largest
-    work: W_cushion is a difference), W_numerical is not 0, W_friction exceeds the work put in,
-    or an output is not finite."""
+    """Points where E_kinetic, E_strain, W_cushion or W_face is negative (beyond 1e-12 of the
+    largest work: W_cushion and W_face are differences), W_numerical is not 0, W_friction and
+    W_face exceed the work put in, or an output is not finite."""
     c = COLUMN
     scale = max(float(np.max(np.abs(rows[:, c[n]]), initial=0.0)) for n in _LEDGER_IN)
     bad = ~np.all(np.isfinite(rows), axis=1)
     bad |= (rows[:, c["E_kinetic"]] < 0.0) | (rows[:, c["E_strain"]] < 0.0)
     bad |= rows[:, c["W_cushion"]] < -1e-12 * scale
+    bad |= rows[:, c["W_face"]] < -1e-12 * scale
     bad |= rows[:, c["W_numerical"]] != 0.0
-    bad |= (rows[:, c["W_friction"]] > rows[:, c["W_input"]] + rows[:, c["W_ram"]]
-            + 1e-12 * scale)
+    bad |= (rows[:, c["W_friction"]] + rows[:, c["W_face"]] > rows[:, c["W_input"]]
+            + rows[:, c["W_ram"]] + 1e-12 * scale)
     return float(np.count_nonzero(bad))
 
 

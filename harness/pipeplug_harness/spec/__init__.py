@@ -37,7 +37,7 @@ def check_plausible(values: dict, kind: FileKind, allowed: set) -> None:
     for section, keys in kind.sections.items():
         here = values.get(section, {}) if section in kind.nested else values
         for key, spec in keys.items():
-            if spec.kind in ("number", "integer"):
+            if spec.kind in ("number", "integer", "numbers", "integers"):
                 plausibility(f"[{section}] {key}", key, here.get(key), spec, allowed)
 
 

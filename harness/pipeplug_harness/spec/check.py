@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 import numbers
+from dataclasses import replace
 
 from pipeplug_harness.errors import UserError
 
@@ -68,7 +69,10 @@ def check_sections(raw: dict, sections: dict, nested=(), required=(), varied=())
 
 
 def value_of(where: str, value, spec: Key):
-    """``value`` of the key ``spec`` at ``where``, checked and in SI."""
+    """``value`` of the key ``spec`` at ``where``, checked and in SI (a list kind: each item,
+    and the list strictly ascending)."""
+    if spec.kind in _LISTS:
+        return _ascending(where, value, replace(spec, kind=_LISTS[spec.kind]))
     value = _typed(where, value, spec)
     low = spec.lower
     if low is not None and not (value > low if spec.strict else value >= low):
@@ -76,6 +80,23 @@ def value_of(where: str, value, spec: Key):
         raise UserError(key=where, value=value,
                         allowed=f"{'>' if spec.strict else '>='} {low:g}{unit}")
     return value
+
+
+#: list kind -> the kind of its items
+_LISTS = {"numbers": "number", "integers": "integer"}
+
+
+def _ascending(where: str, value, item: Key) -> tuple:
+    """A non-empty list of ``item`` values, each checked, strictly ascending."""
+    if not isinstance(value, list) or not value:
+        raise UserError(key=where, value=value,
+                        allowed=f"a non-empty list of {item.kind}s"
+                                + (f" in {item.unit} or quantities with their unit"
+                                   if item.kind == "number" else ""))
+    items = tuple(value_of(f"{where}[{i}]", v, item) for i, v in enumerate(value))
+    if any(b <= a for a, b in zip(items, items[1:])):
+        raise UserError(key=where, value=value, allowed="values in strictly ascending order")
+    return items
 
 
 def _typed(where: str, value, spec: Key):
@@ -122,6 +143,10 @@ def _typed(where: str, value, spec: Key):
 def plausibility(where: str, key: str, value: float, spec: Key, allowed: set) -> None:
     """Refuse ``value`` outside the key's plausible range unless the file allows ``key``."""
     if spec.plausible is None or value is None or key in allowed:
+        return
+    if isinstance(value, tuple):                   # a list kind: each item
+        for i, item in enumerate(value):
+            plausibility(f"{where}[{i}]", key, item, spec, allowed)
         return
     low, high = spec.plausible
     if low <= value <= high:

@@ -5,7 +5,9 @@ dimension), a default, whether a file must give it, and a plausibility range: a 
 (a pipe radius of 292 m, a train of 1e11 blows) is refused unless the file allows that key by
 name (``[checks] allow = ["R1"]``). The hard ranges are the core's and the Hammer's own checks,
 applied after these. Adding a section or a key is one entry here; a file kind
-(:mod:`.kinds`) then says which sections it takes.
+(:mod:`.kinds`) then says which sections it takes. A key that is a core parameter or option is
+one line ``name: _core(name, plausible)``: its unit, kind, meaning and hard bounds come from the
+core's tables (:data:`pipeplug.PARAMETERS`, :data:`pipeplug.options.OPTIONS`).
 
 A default of ``None`` means "the FMU's default" (the key is not passed on).
 """
@@ -14,6 +16,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from pipeplug import OUTPUT_NAMES, PARAMETERS
+from pipeplug.options import OPTIONS
 from pipeplug_fmu.blows import PARAMETERS as BLOW_PARAMETERS
 
 __all__ = ["Key", "SECTIONS", "KINDS_OF_VALUE", "blow_default"]
@@ -21,7 +24,9 @@ __all__ = ["Key", "SECTIONS", "KINDS_OF_VALUE", "blow_default"]
 #: kind -> what a value of it is, in words (for messages)
 KINDS_OF_VALUE = {"number": "a number", "integer": "an integer", "bool": "true or false",
                   "string": "a string", "auto": 'true, false or "auto"', "names": "a list of names",
-                  "choice": "one of the names listed"}
+                  "choice": "one of the names listed",
+                  "numbers": "a list of numbers, ascending", "integers": "a list of integers, "
+                                                                         "ascending"}
 
 _CORE = {p.name: p for p in PARAMETERS}
 
@@ -32,7 +37,9 @@ class Key:
 
     ``unit`` is its SI unit (numbers); ``plausible`` the inclusive range (SI) outside which a
     value needs ``[checks] allow``; ``choices`` the allowed values of a choice or the allowed
-    names of a list; ``required`` a file must give it (or, in a sweep, vary it).
+    names of a list; ``required`` a file must give it (or, in a sweep, vary it). A key of kind
+    ``"numbers"`` or ``"integers"`` is a list of them, strictly ascending, each within the
+    bounds and the plausible range.
     """
 
     kind: str
@@ -46,8 +53,15 @@ class Key:
     strict: bool = False             #: the lower bound is excluded
 
 
-def _core(name: str, plausible: tuple, required: bool = False) -> Key:
-    """A key that is a core parameter: its unit and meaning from the core's table."""
+def _core(name: str, plausible: tuple | None = None, required: bool = False) -> Key:
+    """A key that is a core parameter or option: its kind, unit, meaning and hard bounds from
+    the core's tables (a parameter: a number in its SI unit, ``plausible`` its plausible
+    range; an option: true or false, or one of its names). Default ``None``: the FMU's."""
+    if name in OPTIONS:
+        allowed, _, meaning = OPTIONS[name]
+        if set(allowed) == {False, True}:
+            return Key("bool", required=required, meaning=meaning)
+        return Key("choice", required=required, choices=allowed, meaning=meaning)
     p = _CORE[name]
     return Key("number", p.unit, None, required, plausible, meaning=p.description,
                lower=p.lower, strict=p.strict_lower)
@@ -86,6 +100,9 @@ SECTIONS: dict[str, dict[str, Key]] = {
         "tau1": _core("tau1", (0.0, 1e7), required=True),
         "contact_growth": Key("bool", default=False,
                               meaning="model II: outer friction over the penetrated length"),
+        # end bearing from none to rock (cone resistances of dense sand reach 20-40 MPa)
+        "q_face": _core("q_face", (0.0, 1e8)),
+        "q_plug_face": _core("q_plug_face", (0.0, 1e8)),
     },
     "blows": {
         "amplitude": Key("number", "N", None, True, (-1e9, 1e9), meaning="force of every blow"),
@@ -102,7 +119,7 @@ SECTIONS: dict[str, dict[str, Key]] = {
     },
     "model": {
         "elastic": Key("auto", default="auto", meaning='model III; "auto": the paper\'s rule'),
-        "solver": Key("choice", choices=("exact", "fd"), meaning="rigid models' solver"),
+        "solver": _core("solver"),
         "dt": _core("dt", (1e-9, 1.0)),
         "dx": _core("dx", (1e-4, 100.0)),
         "courant": _core("courant", (0.01, 1.0)),
@@ -148,6 +165,12 @@ SECTIONS: dict[str, dict[str, Key]] = {
         "step": _positive("s", (1e-8, 10.0), "communication step while a blow acts"),
         "yield_stress": _positive("Pa", (1e6, 5e9), "the pipe's yield stress: the drive "
                                                     "reports its largest stress against it"),
+        "cleanout_at": _positive("m", (1e-3, 500.0), "clean-outs: before the first blow at or "
+                                                     "past each of these penetrations",
+                                 kind="numbers"),
+        "cleanout_at_blows": Key("integers", "1", None, False, (1, 1e7), lower=1,
+                                 meaning="clean-outs: before each of these blows (instead of "
+                                         "cleanout_at)"),
     },
     "sweep": {
         "kind": Key("choice", default="blow", choices=("blow", "drive"),

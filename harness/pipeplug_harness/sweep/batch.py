@@ -33,7 +33,8 @@ AT_REST = {"v_pipe": 0.0, "v_plug": 0.0, "F_outer": 0.0, "F_inner": 0.0, "E_kine
            "W_cushion": 0.0, "stress_head": 0.0, "stress_min": 0.0, "stress_max": 0.0,
            "at_rest": True, "pipe_mode": 0, "plug_mode": 0}
 #: result columns taken as the batch API gives them
-_GIVEN = ("u_pipe", "u_plug", "W_input", "W_friction_outer", "W_friction_inner", "t_end")
+_GIVEN = ("u_pipe", "u_plug", "W_input", "W_friction_outer", "W_friction_inner", "W_face",
+          "t_end")
 _PARAMS = frozenset(p.name for p in PARAMETERS)
 
 
@@ -59,8 +60,7 @@ def run_chunk(spec, c: int) -> pa.Table:
                **{k: out[k] for k in _GIVEN},
                "W_friction": out["W_friction_outer"] + out["W_friction_inner"],
                "E_transferred": out["W_input"],                # no ram: Q's own work
-               "W_face": np.zeros(n),          # sweep files set no end resistance
-               "W_damping": np.zeros(n),       # nor damping
+               "W_damping": np.zeros(n),       # sweep files set no damping
                **{k: np.full(n, v) for k, v in AT_REST.items()},
                "error": pa.repeat("", n)}
     table = pa.table(columns, schema=schema(spec))

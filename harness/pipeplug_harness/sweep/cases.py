@@ -40,7 +40,8 @@ RESULT_COLUMNS = {
             + [("t_end", pa.float64()), ("modes", pa.string())],
     "drive": [("outcome", pa.string()), ("refusal", pa.bool_()), ("blows", pa.int64()),
               ("penetration", pa.float64()), ("last_set", pa.float64()),
-              ("drive_time", pa.float64()), ("steps", pa.int64())],
+              ("drive_time", pa.float64()), ("metres_per_hour", pa.float64()),
+              ("steps", pa.int64())],
 }
 
 
@@ -123,7 +124,8 @@ def _run_drive(spec) -> dict:
     last = result.blows[-1]
     return {"outcome": result.outcome, "refusal": result.outcome in ("static", "set"),
             "blows": len(result.blows), "penetration": result.penetration,
-            "last_set": last.set, "drive_time": result.drive_time, "steps": result.steps}
+            "last_set": last.set, "drive_time": result.drive_time,
+            "metres_per_hour": result.metres_per_hour, "steps": result.steps}
 
 
 _RUN = {"blow": _run_blow, "drive": _run_drive}

@@ -167,9 +167,31 @@ def test_fd_converges_to_the_closed_form_at_first_order():
     assert 1.6 < errors[0] / errors[1] < 2.4 and 1.6 < errors[1] / errors[2] < 2.4
 
 
-def test_a_ram_with_end_resistance_is_refused_by_the_rigid_models():
+def test_a_ram_with_end_resistance_is_refused_by_the_rigid_model_II():
     from pipeplug import ParameterError
-    with pytest.raises(ParameterError, match="q_face"):
-        build_model({"q_face": 1e6, "ram_mass": 10.0}, {})
+    with pytest.raises(ParameterError, match="q_face.*contact_growth"):
+        build_model({"q_face": 1e6, "ram_mass": 10.0}, {"contact_growth": True})
+    assert math.isfinite(build_model({"q_face": 1e6, "ram_mass": 10.0}, {}).time)
     assert math.isfinite(build_model({"q_face": 1e6, "ram_mass": 10.0, "dx": 0.05},
                                      {"elastic": True}).time)
+
+
+@pytest.mark.parametrize("compiled", [False, True])
+def test_a_direct_strike_against_the_face_alone(compiled):
+    """A ram of m = 3 kg strikes a free pipe (no friction, no plug) at v0 = 5 m/s with e = 1:
+    the pipe leaves at 2 m v0 / (m + M1), the ram at (m - M1) v0 / (m + M1), and the face's
+    Qf = q_face S1 stops the pipe after M1 v^2 / (2 Qf), all its kinetic energy done against
+    it (closed form)."""
+    S1 = math.pi * (0.038 ** 2 - 0.035 ** 2)
+    M1, Qf, m, v0 = 7800.0 * S1, 2e6 * S1, 3.0, 5.0
+    model = build_model({"tau1": 0.0, "tau2": 0.0, "q_face": 2e6, "ram_mass": m}, {},
+                        compiled=compiled)
+    model.strike(v0)
+    model.advance(0.0, 1.0)
+    out = model.outputs()
+    v = 2.0 * m * v0 / (m + M1)
+    assert out.u_pipe == pytest.approx(M1 * v * v / (2.0 * Qf), rel=1e-13)
+    assert out.W_face == pytest.approx(0.5 * M1 * v * v, rel=1e-13)
+    assert out.v_ram == pytest.approx((m - M1) * v0 / (m + M1), rel=1e-13)
+    assert out.v_pipe == 0.0 and out.at_rest
+    assert abs(ledger_residual(out)) <= 1e-14 * out.W_ram

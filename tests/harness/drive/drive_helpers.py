@@ -25,13 +25,16 @@ def toml_text(sections: dict, fill: bool = True) -> str:
     for section, keys in (complete(sections) if fill else sections).items():
         lines.append(f"[{section}]")
         for key, value in keys.items():
-            if isinstance(value, bool):
-                text = "true" if value else "false"
-            elif isinstance(value, str):
-                text = f'"{value}"'
-            elif isinstance(value, (list, tuple)):
-                text = "[" + ", ".join(f'"{v}"' for v in value) + "]"
-            else:
-                text = repr(int(value) if isinstance(value, int) else float(value))
-            lines.append(f"{key} = {text}")
+            lines.append(f"{key} = {_value(value)}")
     return "\n".join(lines) + "\n"
+
+
+def _value(value) -> str:
+    """``value`` as TOML (numbers exactly; lists item by item)."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        return f'"{value}"'
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_value(v) for v in value) + "]"
+    return repr(int(value) if isinstance(value, int) else float(value))

@@ -69,7 +69,8 @@ def test_the_check_names_the_blow_and_the_numbers(tmp_path):
     spec = load_drive(_casing(tmp_path))
     limits = Limits.of(spec)
     blow = Blow(7, 1.8, 0.01, 0.5, 3.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, "rest", 0.1, 10, 0.0,
-                -1e6, 0.0, -1e6, 0.0, 1.0, math.nan)
+                -1e6, 0.0, -1e6, 0.0, 1.0, math.nan, False, 1.0, 0.0, 2.0, "plugged", 120.0,
+                {})
     created = Outputs(*(0.0 for _ in OUTPUTS))._replace(u_pipe=0.5, W_input=7.787e6,
                                                         W_friction_outer=7.889e6, at_rest=True)
     with pytest.raises(DriveInvalid) as info:

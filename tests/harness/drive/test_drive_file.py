@@ -36,6 +36,12 @@ def _load(tmp_path, sections):
     ({"soil": {"tau1": 2e8}}, r'tau1 = 200000000.0 Pa is outside .*allow = \["tau1"\]'),
     ({"blows": {"amplitude": float("nan")}}, r"amplitude = nan; allowed: a finite number"),
     ({"blows": {"duration": 0.0}, "drive": {"step": 1e-3}}, r"duration = 0.0; allowed: > 0 s"),
+    ({"soil": {"q_tip": "1 MPa"}}, "unknown key 'q_tip'.*tau1, contact_growth, q_face, "
+                                   "q_plug_face"),
+    ({"soil": {"q_face": "3 m"}}, r"\[soil\] q_face = '3 m'; allowed: a quantity of the "
+                                  r"dimension of Pa"),
+    ({"soil": {"q_plug_face": "-1 kPa"}}, r"\[soil\] q_plug_face = -1000.0; allowed: >= 0 Pa"),
+    ({"soil": {"q_face": "2 GPa"}}, r'q_face = 2000000000.0 Pa is outside .*allow = \["q_face"\]'),
 ])
 def test_unknown_or_bad_values_name_the_allowed_ones(tmp_path, sections, match):
     with pytest.raises(UserError, match=match):
@@ -77,6 +83,12 @@ def test_defaults_and_the_monitored_front_end(tmp_path):
                                "drive": {"refusal_set": 1e-4, "target": 1.5}})
     assert elastic.elastic and elastic.start_values["x_monitor"] == 2.0    # the front end
     assert (elastic.refusal_count, elastic.refusal_length, elastic.target) == (1, 1e-4, 1.5)
+
+
+def test_the_soil_s_end_resistance_in_the_engineer_s_units(tmp_path):
+    spec = _load(tmp_path, {"soil": {"q_face": "3.5 MPa", "q_plug_face": "150 kPa"}})
+    assert spec.start_values["q_face"] == 3.5e6 and spec.start_values["q_plug_face"] == 1.5e5
+    assert "q_face" not in _load(tmp_path, {}).start_values        # absent: the FMU's default
 
 
 def test_every_shipped_drive_loads():

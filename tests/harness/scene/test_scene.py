@@ -253,3 +253,27 @@ def test_a_scene_takes_blows_or_a_hammer(tmp_path, change, words):
     path.write_text(RAM_SCENE.replace("efficiency = 0.8", "efficiency = 1.5"))
     with pytest.raises(UserError, match=r"\[hammer\] efficiency = 1.5"):
         load_scene(path)
+
+
+def test_core_keys_take_their_facts_from_the_core_s_tables():
+    """A key that is a core parameter or option is one line of the file format's table: its
+    unit, bounds, meaning and allowed values are the core's."""
+    from pipeplug import PARAMETERS
+    from pipeplug.options import OPTIONS
+    from pipeplug_harness.spec import SECTIONS
+    core = {p.name: p for p in PARAMETERS}
+    keys = {k: key for section in SECTIONS.values() for k, key in section.items()}
+    for name in ("q_face", "q_plug_face", "tau1", "L1", "dx"):
+        p, key = core[name], keys[name]
+        assert (key.kind, key.unit, key.lower, key.meaning) == ("number", p.unit, p.lower,
+                                                                p.description), name
+    assert keys["solver"].choices == OPTIONS["solver"][0]
+
+
+def test_end_resistance_keys_in_units(tmp_path):
+    text = BASE.replace("tau1 = 0.0", 'tau1 = 0.0\nq_face = "12 MPa"\nq_plug_face = "0.3 MPa"')
+    scene = load_scene(_write(tmp_path, text + BLOW))
+    assert scene.start_values["q_face"] == 1.2e7 and scene.start_values["q_plug_face"] == 3e5
+    with pytest.raises(UserError, match=r"\[soil\] q_face = '12 MN'; allowed: a quantity of "
+                                        r"the dimension of Pa"):
+        load_scene(_write(tmp_path, text.replace("12 MPa", "12 MN") + BLOW))

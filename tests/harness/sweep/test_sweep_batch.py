@@ -58,8 +58,13 @@ def test_the_paper_s_sweeps_take_their_paths():
     assert load_sweep("scenes/sweeps/single_blows_mc.toml").runner == "batch"
 
 
-@pytest.mark.parametrize("growth", [False, True])
-def test_the_batch_path_gives_the_per_case_path_s_columns(growth):
+#: the soil's end resistance drawn too (W_face a column of both paths)
+FACE = {"q_face": {"dist": "uniform", "low": 0.0, "high": 2e7},
+        "q_plug_face": {"dist": "uniform", "low": 0.0, "high": 3e5}}
+
+
+@pytest.mark.parametrize("growth, face", [(False, {}), (True, {}), (True, FACE)])
+def test_the_batch_path_gives_the_per_case_path_s_columns(growth, face):
     """A random sweep over parameters and the blow; stop_time short enough that some cases
     (tau1 near 0) are still moving there (handed to the per-case path) and that some come to
     rest within the last, cut step. Every column within 1e-15 of its scale."""
@@ -69,7 +74,8 @@ def test_the_batch_path_gives_the_per_case_path_s_columns(growth):
                          "L2": {"dist": "uniform", "low": 0.0, "high": 1.0},
                          "rho2": {"dist": "uniform", "low": 500.0, "high": 5000.0},
                          "amplitude": {"dist": "uniform", "low": 5e3, "high": 4e4},
-                         "duration": {"dist": "lognormal", "median": 0.02, "sigma": 0.5}},
+                         "duration": {"dist": "lognormal", "median": 0.02, "sigma": 0.5},
+                         **face},
                  soil={"contact_growth": growth}, output={"stop_time": 1.0})
     assert spec.runner == "batch" and spec.n_chunks == 3
     for c in range(spec.n_chunks):
@@ -84,6 +90,9 @@ def test_the_batch_path_gives_the_per_case_path_s_columns(growth):
             else:
                 assert np.array_equal(a, b), (c, name)
     rows = _per_case(spec).run_chunk(0).to_pylist() + _per_case(spec).run_chunk(1).to_pylist()
+    if face:          # an end resistance stops every pipe early: the work against it
+        assert all(r["W_face"] > 0.0 for r in rows if r["u_pipe"] > 0.0)
+        return
     assert any(not r["at_rest"] for r in rows)                     # the hand-over is exercised
     assert any(r["at_rest"] and r["t_end"] == 1.0 for r in rows)   # the cut step too
 
