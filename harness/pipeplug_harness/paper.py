@@ -28,11 +28,15 @@ T_FIG7 = 0.08
 RAM_PARAMETERS: tuple[str, ...] = ("ram_mass", "cushion_stiffness", "cushion_restitution")
 #: The soil's end resistance: the core's, not the paper's (0: none).
 FACE_PARAMETERS: tuple[str, ...] = ("q_face", "q_plug_face")
+#: Smith damping: the core's, not the paper's (0: none).
+DAMPING_PARAMETERS: tuple[str, ...] = ("J_shaft", "J_face")
+#: The core's effects beyond the paper, each absent at its default.
+EFFECT_PARAMETERS = RAM_PARAMETERS + FACE_PARAMETERS + DAMPING_PARAMETERS
 #: Parameters of the paper's rigid models I and II (the physical ones no model option switches
-#: on, the ram's and the end resistance's left out).
+#: on, the effects beyond the paper left out).
 RIGID_PARAMETERS: tuple[str, ...] = tuple(p.name for p in PARAMETERS
                                           if p.active_with is None and p.unit != "1"
-                                          and p.name not in RAM_PARAMETERS + FACE_PARAMETERS)
+                                          and p.name not in EFFECT_PARAMETERS)
 #: parameter -> its SI unit (the core's table)
 PARAMETER_UNITS: dict[str, str] = {p.name: p.unit for p in PARAMETERS}
 #: output -> its SI unit (the core's table; "1" for the modes and the flag)
