@@ -110,6 +110,9 @@ PARAMETERS: tuple[Parameter, ...] = (
               "while it retreats); 0: absent", 0.0),
     Parameter("q_plug_face", "Pa", 0.0, "end resistance of the soil on the plug's front face S2 "
               "while the plug advances into it (the same law); 0: absent", 0.0),
+    Parameter("L2_after_cleanout", "m", 0.0, "plug length a clean-out (a rise of the input "
+              "cleanouts) leaves in the pipe, at its front; model III: rounded down to whole "
+              "cells", 0.0, upper_of="L1"),
 )
 
 _BY_NAME = {p.name: p for p in PARAMETERS}
