@@ -24,7 +24,8 @@ def build_model(params: Params | Mapping[str, float] | None = None,
     params : Params or mapping, optional
         Parameter values by contract name (SI); missing ones take their defaults.
     options : Options or mapping, optional
-        ``solver`` ("exact" | "fd"), ``contact_growth`` (bool), ``elastic`` (bool).
+        ``solver`` ("exact" | "fd"), ``contact_growth`` (bool), ``elastic`` (bool),
+        ``plug_growth`` (bool, with ``elastic``).
     compiled : bool, optional
         The exact rigid solver runs compiled by numba when it is installed (default), or as
         plain Python (``False``: no numba import, which a short run may not repay). The elastic
@@ -55,8 +56,12 @@ def build_model(params: Params | Mapping[str, float] | None = None,
         _check_face(params, options)
     if params.has_damping:
         _check_damping(params, options)
+    if options.plug_growth and not options.elastic:
+        raise ParameterError("plug_growth", True, "False in the rigid models (model III, "
+                             "elastic = True, carries a plug that grows)")
     if options.elastic:
-        return _variant("elastic")(params, options, profile_points=profile_points)
+        name = "growth" if options.plug_growth else "elastic"
+        return _variant(name)(params, options, profile_points=profile_points)
     if options.solver == "fd":
         model = _variant("fd")(params, options)
     elif params.has_damping:          # Smith damping: pieces of exponentials
@@ -81,6 +86,11 @@ def _elastic() -> type:
     return ElasticModel
 
 
+def _growth() -> type:
+    from .elastic.growth import GrowthModel
+    return GrowthModel
+
+
 def _fd() -> type:
     from .rigid.fd import RigidFd
     return RigidFd
@@ -96,7 +106,8 @@ def _damped() -> type:
     return RigidDamped
 
 
-_IMPORTS = {"elastic": _elastic, "fd": _fd, "exact": _exact, "damped": _damped}
+_IMPORTS = {"elastic": _elastic, "growth": _growth, "fd": _fd, "exact": _exact,
+            "damped": _damped}
 _CLASSES: dict[str, type] = {}        # the variants imported so far
 
 

@@ -90,6 +90,14 @@ OUTPUTS: tuple[Output, ...] = (
     Output("W_damping", "J", "Real", "energy dissipated by the Smith damping of the shaft "
                                      "friction and the end resistances since t = 0 (>= 0, "
                                      "never decreases; 0 with J_shaft = J_face = 0)"),
+    Output("L2_now", "m", "Real", "the plug's length now (L2 without plug_growth; with it, "
+                                  "grown by coring and cut by clean-outs)"),
+    Output("W_accretion", "J", "Real", "energy dissipated as soil at rest joined the growing "
+                                       "plug since t = 0 (>= 0, never decreases; 0 without "
+                                       "plug_growth)"),
+    Output("W_removed", "J", "Real", "energy carried out of the pipe with the soil the "
+                                     "clean-outs removed since t = 0 (kinetic, and strain at "
+                                     "the cut)"),
 )
 
 OUTPUT_NAMES: tuple[str, ...] = tuple(o.name for o in OUTPUTS)
@@ -103,7 +111,7 @@ PER_STEP: tuple[str, ...] = ("stress_min", "stress_max")
 #: decrease). Effects added later add their terms here.
 LEDGER_SOURCES: tuple[str, ...] = ("W_input", "W_ram")
 LEDGER_TERMS: tuple[str, ...] = ("E_kinetic", "E_strain", "W_friction", "W_numerical",
-                                 "W_cushion", "W_face", "W_damping")
+                                 "W_cushion", "W_face", "W_damping", "W_accretion", "W_removed")
 
 
 def ledger_residual(values) -> float:
@@ -214,6 +222,18 @@ class ModelBase:
             Always: this model has no ram (``ram_mass = 0``, or a model that refuses one).
         """
         raise ParameterError("strikes", "an increase", "none without a ram (ram_mass > 0)")
+
+    def cleanout(self) -> None:
+        """Remove the plug down to ``L2_after_cleanout`` now; a model whose plug grows
+        overrides this.
+
+        Raises
+        ------
+        ParameterError
+            Always: this model's plug does not change length (``plug_growth`` off).
+        """
+        raise ParameterError("cleanouts", "an increase",
+                             "none without plug_growth (model III carries clean-outs)")
 
     def advance(self, q: float, h: float) -> None:
         """Advance by ``h`` [s] > 0 under a constant struck-end force ``q`` [N]."""

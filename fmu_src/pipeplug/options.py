@@ -20,6 +20,9 @@ OPTIONS: dict[str, tuple[tuple, object, str]] = {
     "contact_growth": ((False, True), False,
                        "model II: outer friction over the penetrated length min(max(s,0),L1)"),
     "elastic": ((False, True), False, "model III: pipe and plug are elastic rods"),
+    "plug_growth": ((False, True), False,
+                    "the plug grows: soil at rest enters while the pipe's front end advances "
+                    "faster than the plug's (coring); model III"),
 }
 
 
@@ -30,6 +33,7 @@ class Options:
     solver: str = "exact"
     contact_growth: bool = False
     elastic: bool = False
+    plug_growth: bool = False
 
     @classmethod
     def from_mapping(cls, given: Mapping[str, object] | None = None) -> Options:

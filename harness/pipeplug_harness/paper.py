@@ -4,8 +4,8 @@
   :data:`T_FIG7` [s].
 * Parameter names: :data:`RIGID_PARAMETERS` (models I and II), taken from the core's one
   parameter table, not retyped, less the ram at the head (:data:`RAM_PARAMETERS`) and the
-  soil's end resistance (:data:`FACE_PARAMETERS`), which the paper's models and their closed
-  form do not have.
+  soil's end resistance (:data:`FACE_PARAMETERS`) and the clean-out (:data:`GROWTH_PARAMETERS`),
+  which the paper's models and their closed form do not have.
 * Output names: the core's outputs (``v_pipe``, ...) against the paper's and the closed form's
   symbols (``V1``, ...): :data:`SYMBOLS`, :func:`to_symbols`.
 * Units of the outputs: :data:`OUTPUT_UNITS`, from the core's output table.
@@ -16,7 +16,8 @@ import numpy as np
 
 from pipeplug import OUTPUTS, PARAMETERS
 
-__all__ = ["Q0", "T0", "T_FIG7", "RAM_PARAMETERS", "FACE_PARAMETERS", "RIGID_PARAMETERS",
+__all__ = ["Q0", "T0", "T_FIG7", "RAM_PARAMETERS", "FACE_PARAMETERS", "GROWTH_PARAMETERS",
+           "RIGID_PARAMETERS",
            "PARAMETER_UNITS", "OUTPUT_UNITS", "SYMBOLS", "MOTION", "to_symbols", "rigid_values"]
 
 #: The paper's blow: amplitude [N] and duration [s] (section 3, every figure).
@@ -30,8 +31,10 @@ RAM_PARAMETERS: tuple[str, ...] = ("ram_mass", "cushion_stiffness", "cushion_res
 FACE_PARAMETERS: tuple[str, ...] = ("q_face", "q_plug_face")
 #: Smith damping: the core's, not the paper's (0: none).
 DAMPING_PARAMETERS: tuple[str, ...] = ("J_shaft", "J_face")
+#: The clean-out of a plug that grows: the core's, not the paper's.
+GROWTH_PARAMETERS: tuple[str, ...] = ("L2_after_cleanout",)
 #: The core's effects beyond the paper, each absent at its default.
-EFFECT_PARAMETERS = RAM_PARAMETERS + FACE_PARAMETERS + DAMPING_PARAMETERS
+EFFECT_PARAMETERS = RAM_PARAMETERS + FACE_PARAMETERS + DAMPING_PARAMETERS + GROWTH_PARAMETERS
 #: Parameters of the paper's rigid models I and II (the physical ones no model option switches
 #: on, the effects beyond the paper left out).
 RIGID_PARAMETERS: tuple[str, ...] = tuple(p.name for p in PARAMETERS

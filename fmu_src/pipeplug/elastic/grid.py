@@ -89,22 +89,25 @@ def _section(x: float, n: int, dx: float) -> Section:
     return Section(tuple(cells), tuple(shares), cell)
 
 
-def build_grid(params, profile_points: int = 0) -> Grid:
+def build_grid(params, profile_points: int = 0, plug: bool | None = None) -> Grid:
     """Derive the grid from validated parameters (raises ParameterError for a bad ``dx``), with
     the sections of ``profile_points`` profile points (0: none; their displacements are tracked
-    like the monitored section's, so element k equals the output with x_monitor = x_k)."""
+    like the monitored section's, so element k equals the output with x_monitor = x_k).
+    ``plug`` says whether the plug is simulated (default: ``params.has_plug``; a plug that
+    grows is simulated from L2 = 0 on, :mod:`pipeplug.elastic.growth`)."""
     p = params
     dx = p.dx
     n1 = cell_count(p.L1, dx)
-    n2 = cell_count(p.L2, dx) if p.has_plug else 0
+    simulated = p.has_plug if plug is None else plug
+    n2 = cell_count(p.L2, dx) if simulated else 0
     coef = np.zeros(N_COEF)
     coef[M1], coef[K1] = p.rho1 * p.S1 * dx, p.E1 * p.S1 / dx
     coef[C1], coef[DX] = p.P1 * p.tau1 * dx, dx
     speed = p.c1
-    if n2:
+    if simulated:
         coef[M2], coef[K2], coef[C2] = p.rho2 * p.S2 * dx, p.E2 * p.S2 / dx, p.P2 * p.tau2 * dx
         speed = max(speed, p.c2)
-    coef[QF], coef[QP] = p.F_face, (p.F_plug_face if n2 else 0.0)
+    coef[QF], coef[QP] = p.F_face, (p.F_plug_face if simulated else 0.0)
     h_max = p.courant * dx / speed
     if p.has_ram:
         _ram_coefficients(p, coef, h_max)

@@ -171,22 +171,13 @@ class ElasticModel(ModelBase):
     def __init__(self, params, options, vectorised: bool | None = None,
                  profile_points: int = 0):
         self.params = params
-        self.grid = g = build_grid(params, profile_points)
+        self.grid = g = self._build_grid(params, profile_points)
         if profile_points:
             self._profiler = _profiles
-        effects = (g.n2 > 0, g.soil, bool(options.contact_growth))
         if vectorised is None:
             vectorised = not jit.enabled()
         self.vectorised = bool(vectorised)
-        if params.has_face:           # one kernel, loops only (pipeplug.elastic.face)
-            from .face import run_face
-            g.coef[GROWTH] = float(options.contact_growth)
-            self.kernel_name = run_face.__name__
-            self._kernel = run_face if vectorised else jit.compiled(run_face)
-        else:
-            self.kernel_name = KERNELS[effects].__name__
-            self._kernel = (VECTORISED[effects] if vectorised
-                            else jit.compiled(KERNELS[effects]))
+        self._kernel = self._choose_kernel(options, self.vectorised)
         self.clock = Clock(g.h_max)
         self._max_steps = params.max_internal_steps
         self.v1, self.N1 = np.zeros(g.n1), np.zeros(g.n1 + 1)
@@ -195,6 +186,23 @@ class ElasticModel(ModelBase):
         self.acc = np.zeros(N_ACC)
         self._rest = None   # at_rest() of the current grid state, once known
         self._modes: list[tuple[int, int]] = []      # see modes()
+
+    def _build_grid(self, params, profile_points: int):
+        """The grid (:func:`pipeplug.elastic.grid.build_grid`)."""
+        return build_grid(params, profile_points)
+
+    def _choose_kernel(self, options, vectorised: bool):
+        """The one kernel of the effects the grid and options call for (and its name in
+        :attr:`kernel_name`)."""
+        g = self.grid
+        if self.params.has_face:      # one kernel, loops only (pipeplug.elastic.face)
+            from .face import run_face
+            g.coef[GROWTH] = float(options.contact_growth)
+            self.kernel_name = run_face.__name__
+            return run_face if vectorised else jit.compiled(run_face)
+        effects = (g.n2 > 0, g.soil, bool(options.contact_growth))
+        self.kernel_name = KERNELS[effects].__name__
+        return VECTORISED[effects] if vectorised else jit.compiled(KERNELS[effects])
 
     @property
     def time(self) -> float:
@@ -293,10 +301,7 @@ class ElasticModel(ModelBase):
         g, acc = self.grid, self.acc
         v_pipe = _interpolate(self.v1, g.pipe)
         u_pipe = _tracked(self.u1, 1, g.pipe)
-        v_plug = u_plug = 0.0
-        if g.n2:
-            v_plug = _interpolate(self.v2, g.plug)
-            u_plug = _tracked(self.u2, 0, g.plug)
+        v_plug, u_plug = self._plug_motion()
         outer, inner = _work(acc, W_OUTER), _work(acc, W_INNER)
         kinetic, strain = self.energies()
         w_input = _work(acc, W_IN)
@@ -312,7 +317,19 @@ class ElasticModel(ModelBase):
                        outer, inner, kinetic, strain, 0.0, float(-self.N1[0]), *ram,
                        float(self.N1[0]) / area, float(acc[N_MIN]) / area,
                        float(acc[N_MAX]) / area, self.at_rest(), *self._monitor_modes(),
-                       float(acc[W_FACE] + acc[W_FACE_ERROR]), 0.0)
+                       float(acc[W_FACE] + acc[W_FACE_ERROR]), 0.0, *self._plug_length())
+
+    def _plug_motion(self) -> tuple[float, float]:
+        """(v_plug [m/s], u_plug [m]) at the plug section of x_monitor (0 without a plug)."""
+        g = self.grid
+        if not g.n2:
+            return 0.0, 0.0
+        return (float(_interpolate(self.v2, g.plug)),
+                float(_tracked(self.u2, 0, g.plug)))
+
+    def _plug_length(self) -> tuple[float, float, float]:
+        """(L2_now [m], W_accretion [J], W_removed [J]): the plug keeps its length."""
+        return float(self.params.L2), 0.0, 0.0
 
     def _monitor_modes(self) -> tuple[int, int]:
         """(pipe_mode, plug_mode) at the cell of x_monitor (and its plug cell)."""
@@ -361,7 +378,7 @@ class ElasticModel(ModelBase):
         W_friction + W_cushion`` to round-off."""
         c, h, acc = self.grid.coef, self.clock.h, self.acc
         pipe = _rod_energies(self.v1, self.N1, c[M1], c[K1], h)
-        plug = _rod_energies(self.v2, self.N2, c[M2], c[K2], h)
+        plug = self._plug_energies()
         kinetic, strain = pipe[0] + plug[0], pipe[1] + plug[1]
         if self.params.has_ram:
             kinetic += 0.5 * c[RAM_MASS] * acc[RAM] ** 2
@@ -372,6 +389,11 @@ class ElasticModel(ModelBase):
                 at_step = force - 0.5 * c[K_UNLOAD] * h * closing
                 strain += at_step * at_step / (2.0 * c[K_UNLOAD])
         return float(kinetic), float(strain)
+
+    def _plug_energies(self) -> tuple[float, float]:
+        """The plug's kinetic and strain energy [J] (:func:`_rod_energies`)."""
+        c = self.grid.coef
+        return _rod_energies(self.v2, self.N2, c[M2], c[K2], self.clock.h)
 
     def get_state(self) -> dict:
         """A copy of the whole state: clock, fields, tracked displacements, works."""

@@ -317,7 +317,7 @@ class RigidDamped(ModelBase):
                        values["W_inner"], kinetic, 0.0, 0.0, q, 0.0, 0.0, 0.0, w_in,
                        -q / self.S1, float(low) / self.S1, float(high) / self.S1,
                        self.at_rest(), int(o["s1"]), int(o["s2"]), values["W_face"],
-                       values["W_damp"])
+                       values["W_damp"], float(self.L2), 0.0, 0.0)     # the plug keeps its length
 
     def modes(self) -> tuple[tuple[int, int], ...]:
         """Every piece's contact modes (pipe_mode, plug_mode), repeats merged."""

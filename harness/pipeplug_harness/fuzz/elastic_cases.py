@@ -24,7 +24,12 @@ it is run on. Domains drawn (SI units):
   force (a strike starts at the blow's start);
 * end resistance (a stream of its own, ``spawn_key=(index, 5)``; none for the free rods):
   ``q_face`` 0 (half of the cases) or ``q_face S1`` 0.01-3 times the blows' force scale,
-  ``q_plug_face`` 0 (half) or ``q_plug_face S2`` 0.1-10 times the plug's limit (log-uniform).
+  ``q_plug_face`` 0 (half) or ``q_plug_face S2`` 0.1-10 times the plug's limit (log-uniform);
+* a plug that grows (a stream of its own, ``spawn_key=(index, 6)``; none for the free rods):
+  ``plug_growth`` for 30 % of the cases, the plug starting empty for a third of them, with
+  ``L2_after_cleanout`` anywhere in [0, L1] (a whole number of cells for half of the cases)
+  and a clean-out at the start of each blow with probability 0.3 (none for a case marked for
+  the FMU, which carries no such input yet).
 
 Grids (all end at the stop time and hold every blow edge and the common sample times, which
 are grid points): ``multiples`` (steps of 1-40 internal steps), ``random`` (random points, most
@@ -70,28 +75,30 @@ class ElasticCase:
     host_h: float
     checks: tuple = ("core",)
     strikes: tuple = ()           #: (time [s], ram velocity [m/s]) of each strike
+    plug_growth: bool = False     #: the plug grows (pipeplug.elastic.growth)
+    cleanouts: tuple = ()         #: times [s] of the clean-outs (blow starts)
     note: str = field(default="", compare=False)
     kind: str = "elastic"
 
     @property
     def model(self) -> str:
         """``"III+II"`` (with contact growth) or ``"III"``."""
-        return "III+II" if self.growth else "III"
+        return ("III+II" if self.growth else "III") + ("+growth" if self.plug_growth else "")
 
     @property
     def options(self) -> dict:
-        return {"elastic": True, "contact_growth": self.growth}
+        return {"elastic": True, "contact_growth": self.growth, "plug_growth": self.plug_growth}
 
     def load_at(self, t) -> np.ndarray:
         """The force [N] on steps starting at ``t`` [s] (right-continuous)."""
         return Load(self.edges, (*self.loads, 0.0)).on_steps(t)
 
 
-def internal_step(params: dict) -> float:
+def internal_step(params: dict, plug_growth: bool = False) -> float:
     """The contract's internal step courant dx / c_fastest [s] (c = sqrt(E / rho); the plug's
-    speed counts when the plug is simulated)."""
+    speed counts when the plug is simulated: with ``plug_growth`` whenever tau2 > 0)."""
     speed = math.sqrt(params["E1"] / params["rho1"])
-    if plug_simulated(params):
+    if plug_simulated(params) or (plug_growth and params["tau2"] > 0.0):
         speed = max(speed, math.sqrt(params["E2"] / params["rho2"]))
     return params["courant"] * params["dx"] / speed
 
@@ -108,7 +115,9 @@ def generate_elastic(seed: int, index: int, plan: Plan = _PLAN) -> ElasticCase:
     params = _params(rng)
     if "reference" in checks and rng.random() < 0.5:
         params.update(tau1=0.0, tau2=0.0, courant=1.0)     # a free rod: the exact reference
-    h = internal_step(params)
+    growing = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index, 6)))
+    plug_growth = _plug_growth(growing, params)
+    h = internal_step(params, plug_growth)
     ram = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index, 4)))
     params.update(_ram(ram, params, h))
     face = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index, 5)))
@@ -117,12 +126,30 @@ def generate_elastic(seed: int, index: int, plan: Plan = _PLAN) -> ElasticCase:
     strikes = ()
     if params["ram_mass"] > 0.0:
         edges, loads, strikes = _strikes(ram, edges, loads)
+    cleanouts = ()
+    if plug_growth and "fmu" not in checks:
+        cleanouts = tuple(t for t in edges[::2] if growing.random() < 0.3)
     steps = round(stop / h)
     samples = tuple(sorted({float(k * h) for k in rng.integers(1, steps + 1, 4)} | {stop}))
     grids = _grids(rng, h, steps, edges, samples)
     host_h = stop / int(rng.integers(20, 300))
     return ElasticCase(seed, index, bool(rng.random() < 0.5), params, edges, loads, stop,
-                       samples, grids, host_h, checks, strikes=strikes)
+                       samples, grids, host_h, checks, strikes=strikes,
+                       plug_growth=plug_growth, cleanouts=cleanouts)
+
+
+def _plug_growth(rng, params: dict) -> bool:
+    """Whether the plug grows, and then its starting length and ``L2_after_cleanout``
+    (module docstring), set in ``params``."""
+    if (params["tau1"] == 0.0 and params["tau2"] == 0.0 and params["courant"] == 1.0) \
+            or rng.random() >= 0.3:
+        return False
+    dx, n1 = params["dx"], round(params["L1"] / params["dx"])
+    if rng.random() < 1 / 3:
+        params["L2"] = 0.0
+    cells = float(rng.integers(0, n1 + 1)) if rng.random() < 0.5 else rng.uniform(0.0, n1)
+    params["L2_after_cleanout"] = min(cells * dx, params["L1"])
+    return True
 
 
 def _ram(rng, params: dict, h: float) -> dict:
@@ -247,5 +274,6 @@ def elastic_from_json(data: dict) -> ElasticCase:
     for key in ("edges", "loads", "samples", "checks"):
         data[key] = tuple(data[key])
     data["strikes"] = tuple(tuple(float(x) for x in s) for s in data.get("strikes", ()))
+    data["cleanouts"] = tuple(float(t) for t in data.get("cleanouts", ()))
     data["grids"] = {k: tuple(float(t) for t in v) for k, v in data["grids"].items()}
     return ElasticCase(**data)

@@ -35,14 +35,17 @@ class RodBody(NamedTuple):
     F_face: float = 0.0  #: the end resistances q_face S1 + q_plug_face S2 (a simulated plug)
 
     @classmethod
-    def of(cls, p: dict) -> RodBody:
+    def of(cls, p: dict, plug_growth: bool = False) -> RodBody:
+        """The body of parameters ``p``; a plug that grows may fill the pipe (its friction
+        limit is that of L1)."""
         S1 = math.pi * ((p["R1"] + p["h1"]) ** 2 - p["R1"] ** 2)
-        plug = p["tau2"] > 0.0 and p["L2"] > 0.0
+        plug = p["tau2"] > 0.0 and (p["L2"] > 0.0 or plug_growth)
+        L2 = p["L1"] if plug_growth else p["L2"]
         face = (p.get("q_face", 0.0) * S1
                 + (p.get("q_plug_face", 0.0) * math.pi * p["R1"] ** 2 if plug else 0.0))
         return cls(p["rho1"] * S1 * p["L1"], S1 * math.sqrt(p["E1"] * p["rho1"]),
                    2 * math.pi * (p["R1"] + p["h1"]) * p["L1"] * p["tau1"],
-                   2 * math.pi * p["R1"] * p["L2"] * p["tau2"] if plug else 0.0,
+                   2 * math.pi * p["R1"] * L2 * p["tau2"] if plug else 0.0,
                    p.get("ram_mass", 0.0), p["rho1"] * S1 * p["dx"], face)
 
     def cushion_allowance(self, strikes) -> float:
@@ -97,6 +100,8 @@ def energy_violations(rows, cushion_allowance: float = 0.0, m_ram: float = 0.0,
         floor = -(cushion_allowance + roundoff) if name == "W_cushion" else 0.0
         bad |= _column(rows, name) < floor
     bad |= _column(rows, "W_numerical") != 0.0
+    # soil taken in at rest never gives energy back
+    bad |= np.diff(_column(rows, "W_accretion"), prepend=0.0) < 0.0
     # What the cushion may give back is the only energy the scheme may create.
     bad |= (_column(rows, "W_friction")
             > _column(rows, "W_input") + _column(rows, "W_ram") + cushion_allowance)

@@ -14,6 +14,7 @@ import time
 import numpy as np
 
 from pipeplug import OUTPUT_NAMES, Options, Params
+from pipeplug.elastic.growth import GrowthModel
 from pipeplug.elastic.model import ElasticModel
 
 from . import checks as ck
@@ -27,9 +28,10 @@ __all__ = ["run_elastic_case", "ELASTIC_PATHS"]
 
 
 def _model(case: ElasticCase, vectorised: bool) -> ElasticModel:
-    options = Options(elastic=True, contact_growth=case.growth)
+    options = Options(elastic=True, contact_growth=case.growth, plug_growth=case.plug_growth)
     params = Params.from_mapping(case.params).validate(options.active_groups())
-    return ElasticModel(params, options, vectorised=vectorised)
+    model = GrowthModel if case.plug_growth else ElasticModel
+    return model(params, options, vectorised=vectorised)
 
 
 #: name -> builder of a model III path: the compiled kernels (every case) and the numpy steps
@@ -42,13 +44,13 @@ def run_elastic_case(case: ElasticCase, setup) -> CaseResult:
     """Run every check the case is marked for (module docstring)."""
     start = time.perf_counter()
     result = CaseResult(case.seed, case.index, case.model, case.checks)
-    body = ek.RodBody.of(case.params)
+    body = ek.RodBody.of(case.params, case.plug_growth)
     runs = _guarded(result, "compiled", _grids, case, "compiled", body, result)
     if "reference" in case.checks and runs is not None:
         numpy = _guarded(result, "numpy", _run, case, "numpy", case.grids["multiples"])
         if numpy is not None:
             result.put("paths", "numpy", ck.same_outputs_error(numpy, runs[0]))
-        if _free_rod(case.params):
+        if _free_rod(case.params) and not case.plug_growth:
             result.put("rod reference", "compiled",
                        ek.free_rod_error(case, case.grids["multiples"], runs[0]))
     if "fmu" in case.checks and setup.fmu:
@@ -72,8 +74,11 @@ def _run(case: ElasticCase, path: str, grid) -> np.ndarray:
     grid = np.asarray(grid, dtype=float)
     loads = case.load_at(grid[:-1])
     strikes = dict(case.strikes)
+    cleanouts = set(case.cleanouts)
     rows = np.empty((len(grid) - 1, len(OUTPUT_NAMES)))
     for i, (t, t_next) in enumerate(zip(grid[:-1], grid[1:])):
+        if float(t) in cleanouts:
+            model.cleanout()
         if float(t) in strikes:
             model.strike(strikes[float(t)])
         model.advance_to(float(loads[i]), float(t_next), float(t))
@@ -84,7 +89,7 @@ def _run(case: ElasticCase, path: str, grid) -> np.ndarray:
 def _grids(case: ElasticCase, path: str, body, result: CaseResult) -> list:
     """Every grid on one path: the invariants on every point, the grids at the samples."""
     at_samples, runs = [], []
-    h = internal_step(case.params)
+    h = internal_step(case.params, case.plug_growth)
     for name in GRIDS:
         grid = np.asarray(case.grids[name])
         rows = _run(case, path, grid)

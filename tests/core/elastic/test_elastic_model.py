@@ -85,16 +85,23 @@ def test_a_step_of_too_many_internal_steps_is_refused_unless_at_rest():
 
 @pytest.mark.parametrize("x", [0.0, 0.004, 0.25, 0.5, 0.6049, 0.8, 0.995, 1.0])
 def test_sections_follow_the_contract(x):
-    """Linear interpolation between cell centres, the nearest section beyond them; the plug's
-    section coupled to x, or its nearest one; modes at the cell containing x."""
+    """Linear interpolation between the nodes x = j dx (the head's cell at x = 0, the mean of
+    the two cells at each face, the last cell at the far end), the nearest section beyond them;
+    the plug's section coupled to x, or its nearest one; modes at the cell containing x."""
     model = elastic(dx=0.01, L2=0.4, tau1=1e4, x_monitor=x)
     model.advance(23000.0, 0.002)
     model.advance(-9000.0, 0.0003)
     p, out = model.params, model.outputs()
-    pipe_centres = (np.arange(100) + 0.5) * p.dx
-    plug_centres = p.L1 - p.L2 + (np.arange(40) + 0.5) * p.dx
-    np.testing.assert_allclose(out.v_pipe, np.interp(x, pipe_centres, model.v1), rtol=1e-12)
-    np.testing.assert_allclose(out.v_plug, np.interp(x, plug_centres, model.v2), rtol=1e-12)
+
+    def nodes(v):
+        return np.concatenate((v[:1], 0.5 * (v[:-1] + v[1:]), v[-1:]))
+
+    pipe_nodes = np.arange(101) * p.dx
+    plug_nodes = p.L1 - p.L2 + np.arange(41) * p.dx
+    np.testing.assert_allclose(out.v_pipe, np.interp(x, pipe_nodes, nodes(model.v1)),
+                               rtol=1e-12)
+    np.testing.assert_allclose(out.v_plug, np.interp(x, plug_nodes, nodes(model.v2)),
+                               rtol=1e-12)
     cell = min(int(x / p.dx + 1e-9), 99)
     assert out.pipe_mode == np.sign(model.v1[cell])
     k = min(max(cell - 60, 0), 39)

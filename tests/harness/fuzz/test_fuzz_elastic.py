@@ -13,6 +13,7 @@ from fuzz_helpers import count
 import pipeplug.elastic.vectorised as vectorised
 import pipeplug_harness.fuzz.elastic_cases as elastic_cases
 from pipeplug import Options, Params
+from pipeplug.elastic.growth import GrowthModel
 from pipeplug.elastic.model import ElasticModel
 from pipeplug_harness.fuzz.cases import Plan
 from pipeplug_harness.fuzz.elastic_cases import (
@@ -41,8 +42,8 @@ def test_a_case_depends_on_seed_and_index_only_and_round_trips():
 def test_edges_and_samples_are_grid_points_every_grid_holds():
     for i in range(30):
         case = generate_elastic(5, i, PLAN)
-        h = internal_step(case.params)
-        for t in (*case.edges, *case.samples):
+        h = internal_step(case.params, case.plug_growth)
+        for t in (*case.edges, *case.samples, *case.cleanouts):
             assert abs(t / h - round(t / h)) <= 1e-9 * max(1.0, t / h)
         for name in GRIDS:
             grid = set(case.grids[name])
@@ -92,11 +93,33 @@ def _varying(case):
     return _VaryingSteps(params, options, vectorised=True)
 
 
-def _campaign(monkeypatch, builder, cases=12, seed=9):
+def _campaign(monkeypatch, builder, cases=12, seed=9, growth=False):
+    """The fuzz of ``cases`` cases with the compiled path built by ``builder``: the cases as
+    they were before the plug could grow (its stream of their own), or with ``growth`` every
+    case that can grow its plug."""
+    original = elastic_cases._plug_growth
+    monkeypatch.setattr(elastic_cases, "_plug_growth", (lambda rng, params: original(
+        _Always(rng), params)) if growth else (lambda rng, params: False))
     monkeypatch.setitem(ELASTIC_PATHS, "compiled", builder)
     summary, _ = fuzz(seed, range(cases), Plan(reference=0, fmu=0, fd=0, model="elastic"),
                       Setup(), progress=None)
     return summary
+
+
+class _Always:
+    """A generator whose first draw in [0, 1) is 0 (the case's plug grows)."""
+
+    def __init__(self, rng):
+        self._rng, self._first = rng, True
+
+    def random(self):
+        if self._first:
+            self._first = False
+            return 0.0
+        return self._rng.random()
+
+    def __getattr__(self, name):
+        return getattr(self._rng, name)
 
 
 def _failed(summary, check) -> int:
@@ -132,7 +155,28 @@ def test_the_fuzz_finds_a_wrong_wave_speed(monkeypatch):
         changed = dict(case.params, E1=case.params["E1"] * (1 + 1e-9))
         return _numpy_model(type(case)(**{**case.__dict__, "params": changed}))
     monkeypatch.setitem(ELASTIC_PATHS, "compiled", stiffer)
+    monkeypatch.setattr(elastic_cases, "_plug_growth", lambda rng, params: False)
     summary, _ = fuzz(9, range(12), Plan(reference=1, fmu=0, fd=0, model="elastic"), Setup(),
                       progress=None)
     assert summary.rows[("rod reference", "compiled")][1] >= 1
     assert np.isfinite(summary.rows[("rod reference", "compiled")][2])
+
+
+class _UnbookedAccretion(GrowthModel):
+    """Soil taken in whose dissipation is not booked (W_accretion reported as 0)."""
+
+    def _plug_length(self):
+        length, _, removed = super()._plug_length()
+        return length, 0.0, removed
+
+
+def _unbooked(case):
+    options = Options(elastic=True, contact_growth=case.growth, plug_growth=case.plug_growth)
+    params = Params.from_mapping(case.params).validate(options.active_groups())
+    model = _UnbookedAccretion if case.plug_growth else ElasticModel
+    return model(params, options, vectorised=False)
+
+
+def test_the_fuzz_finds_accretion_that_is_not_booked(monkeypatch):
+    summary = _campaign(monkeypatch, _unbooked, cases=8, growth=True)
+    assert _failed(summary, "ledger") >= 3

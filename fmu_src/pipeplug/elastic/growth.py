@@ -1,0 +1,355 @@
+"""Model III with a plug that grows (``plug_growth``) and clean-outs.
+
+The plug's front face stays at the pipe's front end. While the pipe's front cell advances
+faster than the plug's (coring), soil at rest enters and joins the plug: its length grows by
+the relative advance ``h max(v1 - v2, 0)`` of each internal step (of the front cells, after
+their projection), up to L1 (then the pipe is plugged: nothing more enters). While the plug's
+front advances with the pipe it pushes the soil ahead, and ``q_plug_face`` acts on its face as
+without growth (:mod:`pipeplug.elastic.face`); so it does on a plug face that advances while
+the pipe cores (the face law is that of :mod:`pipeplug.contact.face`, unchanged). When the pipe
+moves back relative to the plug nothing enters and nothing leaves: the length is kept, and the
+plug stays coupled at equal reference coordinate, its face at the pipe's front end. Without
+plug friction (``tau2 = 0``) the soil that enters is not coupled to the pipe and stays at rest:
+the length grows by the front end's advance and nothing else changes.
+
+Discretisation. The plug is Lagrangian: its cells are soil that entered, in order, the front
+one at the pipe's front cell, cell k behind it at pipe cell ``n1 - d + k`` (``d`` cells). A
+length ``l`` that is not a whole number of cells is carried by the front cell, whose mass and
+plug friction limit are ``(l/dx - (d - 1))`` times a full cell's (between 1 and 2 cells' worth
+once ``l >= dx``, less while the first cell fills); ``d = max(floor(l/dx), 1)``. A front cell
+never lighter than a full one keeps Courant <= 1 stable (it is heavier; its stiffness is a
+full cell's; a lone cell has no spring). When the front cell reaches two cells' worth it splits
+into two full-speed halves: the plug's cells move one pipe cell back (the soil moved back
+relative to the pipe by a cell), the new face between the halves carries no force, and the
+scheme's energy is unchanged. The whole plug thus slides back along the pipe as it grows, one
+cell at a time (the fraction's friction acts on the front pair: O(dx), like the plug's place).
+
+Accretion conserves momentum: in a step the front cell (mass m, velocity r before the step, x
+after its projection) takes the impulse ``J = -dm y`` that brings the entering soil (mass dm,
+at rest) to its velocity ``y = m x / (m + dm)``, which it then joins. The scheme pairs an
+impulse with the step's mean velocity (:mod:`pipeplug.elastic.cells`), and the soil joins
+with the kinetic energy ``dm y^2 / 2``: the scheme's energy changes by
+``J (r + y) / 2 + dm y^2 / 2 = -dm y r / 2``, booked as ``W_accretion`` (in the limit, the
+familiar ``dm v^2 / 2`` of a mass taken up at rest). A step in which the front cell's velocity
+changes sign (``x r < 0``) would create energy; it takes in no soil (the relative advance of
+that step is not added: in a step across a reversal of the plug's front). So W_accretion never
+decreases, and the ledger ``W_input (+ W_ram) = E_kinetic + E_strain + W_friction (+ W_cushion)
++ W_face + W_accretion + W_removed`` closes to round-off as without growth.
+
+Clean-out (:meth:`GrowthModel.cleanout`): the plug is cut to ``L2_after_cleanout`` rounded
+down to whole cells (a length within 1e-9 of a cell's multiple counts as whole): the fraction
+leaves from the front cell (at its velocity), whole cells from the rear (the pipe's head side,
+where the spoil is taken out), and the cut face carries no force. What the scheme's energy
+loses, the removed cells' kinetic energy and the strain energy at the cut, is booked as
+``W_removed``. A plug no longer than that is left as it is.
+
+The kernel (:func:`run_growth`) steps every cell at every step, with or without end
+resistance, soil friction, contact growth and a ram (loops only, like
+:func:`pipeplug.elastic.face.run_face`; without numba it runs as plain Python).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..jit import jitable
+from .cells import (
+    D1,
+    D2,
+    F1,
+    F2,
+    W2,
+    accumulate,
+    free_cells,
+    limit,
+    plug_cells,
+    plug_soil_cells,
+    soil_cells,
+    soil_start,
+    soil_weight,
+    sums,
+)
+from .face import front_cell
+from .grid import _section, build_grid
+from .kernels import (
+    C1,
+    C2,
+    DX,
+    F_IN,
+    F_OUT,
+    GROWTH,
+    K2,
+    LIMITED,
+    M1,
+    M2,
+    N_ACC,
+    _book_friction,
+    _finish_step,
+    _scratch,
+    start_step,
+)
+from .model import ElasticModel, _rod_energies, _sign
+
+__all__ = ["GrowthModel", "run_growth", "LENGTH", "CELLS", "W_ACCRETION", "W_REMOVED"]
+
+# acc beyond the elastic model's: the plug's length [m], its cells d, W_accretion [J] and its
+# rounding error, W_removed [J] and its rounding error.
+LENGTH, CELLS = N_ACC, N_ACC + 1
+W_ACCRETION, W_ACCRETION_ERROR = N_ACC + 2, N_ACC + 3
+W_REMOVED, W_REMOVED_ERROR = N_ACC + 4, N_ACC + 5
+N_ACC_GROWTH = N_ACC + 6
+#: a length within this share of a cell of a whole number of cells is that number
+_WHOLE = 1e-9
+
+
+@jitable
+def front_share(length, cells, dx):
+    """The front cell's mass and plug friction limit in full cells: ``length / dx - (cells -
+    1)`` for ``cells >= 1`` cells of a plug ``length`` [m] long (module docstring)."""
+    return length / dx - (cells - 1.0)
+
+
+@jitable
+def accrete(v1, v2, acc, coef, dt, r2, w2, coupled):
+    """Soil at rest joins the plug after a step's projection (module docstring): grow the
+    length, give the front cell its momentum-conserving velocity, book W_accretion. ``r2``,
+    ``w2`` [m/s]: the front plug cell's velocity before the step and after its kick;
+    ``coupled``: the plug is simulated (tau2 > 0), else only the length grows."""
+    n1 = v1.shape[0]
+    front = n1 - 1
+    length = acc[LENGTH]
+    room = n1 * coef[DX] - length
+    if not room > 0.0:
+        return
+    d = int(acc[CELLS])
+    x1 = v1[front]
+    if d == 0:
+        ds = min(dt * max(x1, 0.0), room)
+        if ds > 0.0:
+            acc[LENGTH] = length + ds
+            if coupled:               # the first cell: soil at rest, no energy changes
+                acc[CELLS] = 1.0
+        return
+    x2 = v2[front]
+    ds = min(dt * max(x1 - x2, 0.0), room)
+    if not ds > 0.0:
+        return
+    grown = length + ds
+    m_old = coef[M2] * front_share(length, d, coef[DX])
+    m_new = coef[M2] * front_share(grown, d, coef[DX])
+    y = x2 * (m_old / m_new)
+    # the scheme's energy loses dm y r / 2, and the projection's impulses on the cell, now
+    # paired with y instead of x, give back their share: what the soil takes
+    work = 0.5 * (m_new - m_old) * y * (r2 + (x2 - w2))
+    if work < 0.0:                    # it would create energy: no soil this step
+        return
+    v2[front] = y
+    acc[LENGTH] = grown
+    accumulate(acc, W_ACCRETION, W_ACCRETION_ERROR, work)
+
+
+@jitable
+def split(v2, N2, u2, acc, dx):
+    """Split the front cell while it holds two cells' worth: the plug's cells move one pipe
+    cell back, the halves keep the front cell's velocity and displacement, the face between
+    them carries no force (the scheme's energy is unchanged)."""
+    n1 = v2.shape[0]
+    d = int(acc[CELLS])
+    while 1 <= d < n1 and acc[LENGTH] / dx >= d + 1.0 - _WHOLE:
+        j0 = n1 - d
+        for k in range(j0 - 1, n1 - 1):
+            v2[k] = v2[k + 1]
+            u2[k] = u2[k + 1]
+        for f in range(j0 - 1, n1):
+            N2[f] = N2[f + 1]
+        N2[n1] = 0.0
+        d += 1
+    acc[CELLS] = d
+
+
+@jitable
+def run_growth(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
+    """Pipe and a growing plug (soil friction, contact growth, end resistance, ram: as
+    ``coef`` has them): every cell at every step. ``v2``, ``N2``, ``u2`` hold a pipe's length
+    of plug cells, the plug in the last ``acc[CELLS]`` of them (module docstring)."""
+    start_step(q, N1, coef, acc)
+    n1 = v1.shape[0]
+    front = n1 - 1
+    a1 = dt / coef[M1]
+    a2 = dt / coef[M2] if coef[M2] > 0.0 else 0.0
+    c1 = dt * coef[C1]
+    soil = coef[C1] > 0.0
+    growth = coef[GROWTH] > 0.0
+    coupled = coef[C2] > 0.0
+    s = _scratch(v1)
+    own = coef.copy()                 # the front pair's: its plug cell's mass and limit
+    j0 = last_both = n1
+    for _ in range(n):
+        d = int(acc[CELLS])
+        j0 = n1 - d
+        pv = v2[j0:]
+        pN = N2[j0:]
+        if d > 0:
+            share = front_share(acc[LENGTH], d, coef[DX])
+            own[M2] = coef[M2] * share
+            own[C2] = coef[C2] * share
+        start = soil_start(u1[0], n1, coef[DX]) if growth else 0.0
+        on = 1.0 if (not growth or u1[0] >= 0.0) else 0.0
+        v_old = v1[0]
+        alone = min(j0, front)
+        if soil:
+            soil_cells(v1, N1, 0, alone, a1, coef[M1], c1, start, s)
+        else:
+            free_cells(v1, N1, 0, alone, a1)
+        both = front
+        if d > 1 and soil:
+            both = j0 + plug_soil_cells(v1, N1, pv, pN, j0, front, a1, a2, coef[M1], coef[M2],
+                                        c1, dt * coef[C2], start, s)
+        elif d > 1:
+            plug_cells(v1, N1, pv, pN, j0, 0, d - 1, a1, a2, coef[M1], coef[M2],
+                       dt * coef[C2], s)
+        r2 = v2[front]
+        front_cell(v1, N1, pv, pN, dt, own, c1 * soil_weight(front, start), on, s, acc)
+        outer = sums(s, D1, 0, alone) + sums(s, D1, both, n1)
+        inner = sums(s, D2, j0, n1)
+        if outer < 0.0 or inner < 0.0:
+            if soil:
+                limit(v1, pv, j0, s, 0, alone, j0, both, both, front)
+            else:
+                limit(v1, pv, j0, s, 0, 0, j0, front, 0, 0)
+            outer = sums(s, D1, 0, alone) + sums(s, D1, both, n1)
+            inner = sums(s, D2, j0, n1)
+            acc[LIMITED] += 1.0
+        _book_friction(acc, outer, inner)
+        accrete(v1, v2, acc, coef, dt, r2, s[W2, front] if d > 0 else 0.0, coupled)
+        _finish_step(q, dt, v_old, v1, N1, pv, pN, coef, cells1, u1, cells2, u2, acc, n1)
+        for k in range(j0, n1):
+            u2[k] += dt * v2[k]
+        split(v2, N2, u2, acc, coef[DX])
+        last_both = both
+    acc[F_OUT] = (sums(s, F1, 0, min(j0, front)) + sums(s, F1, last_both, n1)) / dt \
+        if soil else 0.0
+    acc[F_IN] = sums(s, F2, j0, n1) / dt
+
+
+class GrowthModel(ElasticModel):
+    """Model III whose plug grows and is cleaned out (module docstring); the same
+    parameters as :class:`~pipeplug.elastic.model.ElasticModel`, with ``plug_growth``."""
+
+    def _build_grid(self, params, profile_points: int):
+        # the plug is simulated from L2 = 0 on when it can be coupled (tau2 > 0); its fields
+        # hold a pipe's length of cells, and the displacements of every plug cell are tracked
+        g = build_grid(params, profile_points, plug=params.tau2 > 0.0)
+        return g._replace(cells2=np.zeros(0, dtype=np.int64))
+
+    def _choose_kernel(self, options, vectorised: bool):
+        from .. import jit
+        self.grid.coef[GROWTH] = float(options.contact_growth)
+        self.kernel_name = run_growth.__name__
+        return run_growth if vectorised else jit.compiled(run_growth)
+
+    def __init__(self, params, options, vectorised: bool | None = None,
+                 profile_points: int = 0):
+        super().__init__(params, options, vectorised, profile_points)
+        g = self.grid
+        n2 = g.n2
+        self.v2, self.N2, self.u2 = np.zeros(g.n1), np.zeros(g.n1 + 1), np.zeros(g.n1)
+        acc = np.zeros(N_ACC_GROWTH)
+        acc[:N_ACC] = self.acc
+        acc[LENGTH], acc[CELLS] = params.L2, n2
+        self.acc = acc
+        self._cut = math.floor(params.L2_after_cleanout / params.dx + _WHOLE)
+        if profile_points:
+            self._profiler = _growth_profiles
+
+    # the plug now ---------------------------------------------------------------------------
+    def _plug(self) -> tuple[int, int]:
+        """(cells d, first pipe cell j0) of the plug now."""
+        d = int(self.acc[CELLS])
+        return d, self.grid.n1 - d
+
+    def _plug_section(self, x: float):
+        """The section of the plug now at reference ``x`` [m] (nearest plug section), or None
+        without plug cells."""
+        d, j0 = self._plug()
+        return _section(x - j0 * self.grid.coef[DX], d, self.grid.coef[DX]) if d else None
+
+    def _plug_motion(self) -> tuple[float, float]:
+        s = self._plug_section(self.params.x_monitor)
+        if s is None:
+            return 0.0, 0.0
+        j0 = self._plug()[1]
+        return _at(self.v2, j0, s), _at(self.u2, j0, s)
+
+    def _plug_length(self) -> tuple[float, float, float]:
+        acc = self.acc
+        return (float(acc[LENGTH]), float(acc[W_ACCRETION] + acc[W_ACCRETION_ERROR]),
+                float(acc[W_REMOVED] + acc[W_REMOVED_ERROR]))
+
+    def _monitor_modes(self) -> tuple[int, int]:
+        s = self._plug_section(self.params.x_monitor)
+        plug_mode = 0
+        if s is not None:
+            j = self._plug()[1] + s.cell
+            plug_mode = _sign(self.v1[j] - self.v2[j])
+        return _sign(self.v1[self.grid.pipe.cell]), plug_mode
+
+    def _plug_energies(self) -> tuple[float, float]:
+        d, j0 = self._plug()
+        if not d:
+            return 0.0, 0.0
+        c = self.grid.coef
+        v = self.v2[j0:]
+        kinetic, strain = _rod_energies(v, self.N2[j0:], c[M2], c[K2], self.clock.h)
+        extra = front_share(self.acc[LENGTH], d, c[DX]) - 1.0   # the front cell's own mass
+        return kinetic + 0.5 * extra * c[M2] * v[-1] * v[-1], strain
+
+    # the input ------------------------------------------------------------------------------
+    def cleanout(self) -> None:
+        """Cut the plug to ``L2_after_cleanout`` rounded down to whole cells, now (module
+        docstring); nothing when it is no longer."""
+        acc, dx = self.acc, self.grid.coef[DX]
+        kept = self._cut * dx
+        if not acc[LENGTH] > kept:
+            return
+        before = sum(self._plug_energies())
+        d, j0 = self._plug()
+        if d:
+            keep = min(self._cut, d)
+            cut = self.grid.n1 - keep
+            self.v2[j0:cut] = 0.0
+            self.u2[j0:cut] = 0.0
+            self.N2[j0:cut + 1] = 0.0          # the cut face carries no force
+            acc[CELLS] = keep
+        acc[LENGTH] = kept
+        accumulate(acc, W_REMOVED, W_REMOVED_ERROR, before - sum(self._plug_energies()))
+        self._rest = None
+
+
+def _growth_profiles(model: GrowthModel) -> tuple:
+    """The profiles of :func:`pipeplug.elastic.model._profiles`, the plug's over the plug
+    now (its sections L1 - l + k l / (n - 1), l the length now)."""
+    from ..interface import profile_sections
+    from .model import _profiles
+    v, u, stress, _ = _profiles(model)
+    n = len(model.grid.profile)
+    plug = np.zeros(n)
+    if model._plug()[0]:
+        length = float(model.acc[LENGTH])
+        xs = profile_sections(model.params.L1, length, n)[1]
+        plug = np.array([_plug_at(model, float(x)) for x in xs])
+    return v, u, stress, plug
+
+
+def _plug_at(model: GrowthModel, x: float) -> float:
+    """The plug's velocity [m/s] at its section nearest reference ``x`` [m]."""
+    s = model._plug_section(x)
+    j0 = model._plug()[1]
+    return _at(model.v2, j0, s)
+
+
+def _at(values: np.ndarray, j0: int, s) -> float:
+    """The value at section ``s`` of a plug whose cells start at index ``j0`` of ``values``."""
+    return float(sum(w * values[j0 + c] for c, w in zip(s.cells, s.weights)))
+
