@@ -53,6 +53,14 @@ def build_model(params: Params | Mapping[str, float] | None = None,
         _check_rigid_ram(params, options)
     if params.has_face:
         _check_face(params, options)
+    if options.plug_growth:
+        _check_growth(params, options)
+        if not options.elastic:
+            model = _variant("growth")(params, options)
+            if profile_points:
+                from .rigid.stress import RigidProfiles
+                model._profiler = RigidProfiles(params, options.contact_growth, profile_points)
+            return model
     if options.elastic:
         return _variant("elastic")(params, options, profile_points=profile_points)
     if options.solver == "fd":
@@ -82,12 +90,17 @@ def _fd() -> type:
     return RigidFd
 
 
+def _growth() -> type:
+    from .rigid.growth import RigidGrowth
+    return RigidGrowth
+
+
 def _exact() -> type:
     from .rigid.exact import RigidExact
     return RigidExact
 
 
-_IMPORTS = {"elastic": _elastic, "fd": _fd, "exact": _exact}
+_IMPORTS = {"elastic": _elastic, "fd": _fd, "exact": _exact, "growth": _growth}
 _CLASSES: dict[str, type] = {}        # the variants imported so far
 
 
@@ -121,3 +134,20 @@ def _check_face(params: Params, options: Options) -> None:
     if params.has_ram and not options.elastic:
         raise ParameterError(name, getattr(params, name), "0 with a ram (ram_mass > 0) in the "
                              "rigid models")
+
+
+def _check_growth(params: Params, options: Options) -> None:
+    """Refuse a growing plug where a model does not carry it: the rigid exact solver carries
+    it (without a ram); the paper's explicit scheme and the elastic model do not."""
+    if options.elastic:
+        raise ParameterError("plug_growth", True, "False with elastic = True (the elastic "
+                             "model does not carry a growing plug)")
+    if options.solver == "fd":
+        raise ParameterError("plug_growth", True, "False with solver = 'fd' (the exact solver "
+                             "carries a growing plug)")
+    if params.has_ram:
+        raise ParameterError("plug_growth", True, f"False with a ram (ram_mass = "
+                             f"{params.ram_mass!r} > 0) in the rigid models")
+    if not params.tau2 > 0.0:
+        raise ParameterError("plug_growth", True, "False with tau2 = 0 (a plug without "
+                             "friction on the pipe is not simulated)")

@@ -23,7 +23,7 @@ from .params import ParameterError
 
 __all__ = ["Output", "OUTPUTS", "OUTPUT_NAMES", "PER_STEP", "Outputs", "Model", "ModelBase",
            "LEDGER_SOURCES", "Profile", "PROFILES", "PROFILE_POINTS", "profile_sections",
-           "LEDGER_TERMS", "ledger_residual"]
+           "LEDGER_TERMS", "ledger_residual", "GROWTH_OUTPUTS"]
 
 
 class Output(NamedTuple):
@@ -87,7 +87,19 @@ OUTPUTS: tuple[Output, ...] = (
     Output("W_face", "J", "Real", "work done against the end resistance of the soil on the "
                                   "pipe's front end and the plug's front face since t = 0 "
                                   "(>= 0, never decreases; 0 with q_face = q_plug_face = 0)"),
+    Output("L2_now", "m", "Real", "the plug's length now (the parameter L2 unless plug_growth or a "
+                                  "clean-out changed it)"),
+    Output("W_accretion", "J", "Real", "energy lost as soil at rest joins the plug and as soil "
+                                       "the plug pushes out of the pipe's front end comes to "
+                                       "rest, with the plug's impact on the head when it fills "
+                                       "the pipe (>= 0, never decreases; 0 without plug_growth)"),
+    Output("W_removed", "J", "Real", "kinetic energy of the soil the clean-outs removed since "
+                                     "t = 0 (>= 0, never decreases)"),
 )
+
+#: The outputs every model without a growing plug gives as constants: L2_now (the parameter L2),
+#: W_accretion and W_removed (0).
+GROWTH_OUTPUTS: tuple[str, ...] = ("L2_now", "W_accretion", "W_removed")
 
 OUTPUT_NAMES: tuple[str, ...] = tuple(o.name for o in OUTPUTS)
 
@@ -100,7 +112,7 @@ PER_STEP: tuple[str, ...] = ("stress_min", "stress_max")
 #: decrease). Effects added later add their terms here.
 LEDGER_SOURCES: tuple[str, ...] = ("W_input", "W_ram")
 LEDGER_TERMS: tuple[str, ...] = ("E_kinetic", "E_strain", "W_friction", "W_numerical",
-                                 "W_cushion", "W_face")
+                                 "W_cushion", "W_face", "W_accretion", "W_removed")
 
 
 def ledger_residual(values) -> float:
@@ -211,6 +223,19 @@ class ModelBase:
             Always: this model has no ram (``ram_mass = 0``, or a model that refuses one).
         """
         raise ParameterError("strikes", "an increase", "none without a ram (ram_mass > 0)")
+
+    def clean_out(self) -> None:
+        """Remove the plug down to ``L2_after_cleanout`` now; a model with a growing plug
+        overrides this.
+
+        Raises
+        ------
+        ParameterError
+            Always: this model's plug does not change (``plug_growth`` is off, or a model that
+            does not carry it).
+        """
+        raise ParameterError("cleanouts", "an increase", "none without plug_growth = True "
+                             "(rigid models)")
 
     def advance(self, q: float, h: float) -> None:
         """Advance by ``h`` [s] > 0 under a constant struck-end force ``q`` [N]."""

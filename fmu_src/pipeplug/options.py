@@ -20,6 +20,10 @@ OPTIONS: dict[str, tuple[tuple, object, str]] = {
     "contact_growth": ((False, True), False,
                        "model II: outer friction over the penetrated length min(max(s,0),L1)"),
     "elastic": ((False, True), False, "model III: pipe and plug are elastic rods"),
+    "plug_growth": ((False, True), False,
+                    "the plug grows by the soil that enters the pipe's front end while the pipe "
+                    "advances over it (coring), and shrinks by what leaves it while it moves "
+                    "ahead of the pipe"),
 }
 
 
@@ -30,6 +34,7 @@ class Options:
     solver: str = "exact"
     contact_growth: bool = False
     elastic: bool = False
+    plug_growth: bool = False
 
     @classmethod
     def from_mapping(cls, given: Mapping[str, object] | None = None) -> Options:

@@ -110,6 +110,8 @@ PARAMETERS: tuple[Parameter, ...] = (
               "while it retreats); 0: absent", 0.0),
     Parameter("q_plug_face", "Pa", 0.0, "end resistance of the soil on the plug's front face S2 "
               "while the plug advances into it (the same law); 0: absent", 0.0),
+    Parameter("L2_after_cleanout", "m", 0.0, "plug length a clean-out leaves (each increase of "
+              "the input cleanouts removes the plug down to it)", 0.0, upper_of="L1"),
 )
 
 _BY_NAME = {p.name: p for p in PARAMETERS}

@@ -11,13 +11,14 @@ CONTRACT_DEFAULTS = dict(L1=1.0, L2=1.0, R1=0.035, h1=0.003, rho1=7800, rho2=180
                          E2=6.0e8, tau1=0, tau2=1.0e4, dt=2.0e-4, dx=0.01, courant=1.0,
                          x_monitor=0.5, ram_mass=0.0, cushion_stiffness=0.0,
                          cushion_restitution=1.0, q_face=0.0, q_plug_face=0.0,
+                         L2_after_cleanout=0.0,
                          max_internal_steps=1e8)     # not in the contract: the project's own
 
 
 def test_defaults_are_the_contracts():
     assert {p.name: p.default for p in PARAMETERS} == CONTRACT_DEFAULTS
     assert {k: v[1] for k, v in OPTIONS.items()} == dict(solver="exact", contact_growth=False,
-                                                         elastic=False)
+                                                         elastic=False, plug_growth=False)
 
 
 def test_derived_quantities_match_the_paper():

@@ -312,7 +312,8 @@ class ElasticModel(ModelBase):
                        outer, inner, kinetic, strain, 0.0, float(-self.N1[0]), *ram,
                        float(self.N1[0]) / area, float(acc[N_MIN]) / area,
                        float(acc[N_MAX]) / area, self.at_rest(), *self._monitor_modes(),
-                       float(acc[W_FACE] + acc[W_FACE_ERROR]))
+                       float(acc[W_FACE] + acc[W_FACE_ERROR]), float(self.params.L2), 0.0,
+                       0.0)
 
     def _monitor_modes(self) -> tuple[int, int]:
         """(pipe_mode, plug_mode) at the cell of x_monitor (and its plug cell)."""
