@@ -55,7 +55,6 @@ from .record import (
     S2,
     T0,
     U1,
-    U2,
     W_FACE,
     Q,
     parameter_record,
@@ -271,7 +270,7 @@ class RigidGrowth(ModelBase):
         self._par = par = self._par_for(self._l2, merged)
         st = self._st
         if merged:
-            self._merge_origin, kick, v1 = (u1, u2), 0, v1
+            self._merge_origin, kick = (u1, u2), 0
         w_in, w_outer, w_inner, w_face = w[:4]
         st[W_FACE] = w_face
         start_piece(st, par, [], t, u1, v1, u2 if par[P_COUPLED] else 0.0,
