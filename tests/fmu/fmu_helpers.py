@@ -28,12 +28,14 @@ CONTRACT_PARAMETERS = {
     "ram_mass": ("kg", 0.0, 0.0, None), "cushion_stiffness": ("N/m", 0.0, 0.0, None),
     "cushion_restitution": ("1", 1.0, 0.0, 1.0),
     "q_face": ("Pa", 0.0, 0.0, None), "q_plug_face": ("Pa", 0.0, 0.0, None),
+    "L2_after_cleanout": ("m", 0.0, 0.0, None),
 }
 #: The contract's inputs: name -> (type, unit, variability).
 CONTRACT_INPUTS = {"Q": ("Real", "N", "continuous"), "strikes": ("Integer", None, "discrete"),
-                   "v_strike": ("Real", "m/s", "continuous")}
+                   "v_strike": ("Real", "m/s", "continuous"),
+                   "cleanouts": ("Integer", None, "discrete")}
 CONTRACT_OPTIONS = {"contact_growth": ("Boolean", "false"), "elastic": ("Boolean", "false"),
-                    "solver": ("String", "exact")}
+                    "solver": ("String", "exact"), "plug_growth": ("Boolean", "false")}
 #: Output name -> (type, unit), from the contract's table.
 CONTRACT_OUTPUTS = {"v_pipe": ("Real", "m/s"), "v_plug": ("Real", "m/s"), "u_pipe": ("Real", "m"),
                     "u_plug": ("Real", "m"), "F_outer": ("Real", "N"), "F_inner": ("Real", "N"),
@@ -46,7 +48,9 @@ CONTRACT_OUTPUTS = {"v_pipe": ("Real", "m/s"), "v_plug": ("Real", "m/s"), "u_pip
                     "E_transferred": ("Real", "J"), "stress_head": ("Real", "Pa"),
                     "stress_min": ("Real", "Pa"), "stress_max": ("Real", "Pa"),
                     "at_rest": ("Boolean", None), "pipe_mode": ("Integer", None),
-                    "plug_mode": ("Integer", None), "W_face": ("Real", "J")}
+                    "plug_mode": ("Integer", None), "W_face": ("Real", "J"),
+                    "L2_now": ("Real", "m"), "W_accretion": ("Real", "J"),
+                    "W_removed": ("Real", "J")}
 #: Output name -> name in pipeplug_references.closed_form.solution
 CLOSED_FORM_NAMES = {"v_pipe": "V1", "v_plug": "V2", "u_pipe": "U1", "u_plug": "U2",
                      "F_outer": "F_outer", "F_inner": "F_inner", "W_input": "W_input",
