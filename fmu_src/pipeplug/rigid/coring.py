@@ -90,8 +90,8 @@ class Slide:
         """The plug's velocity [m/s] in the state ``y``."""
         if self.s3 == 0:
             return 0.0
-        l2 = y[_L2]
-        return y[_P] / (self.c["mu"] * l2) if l2 > 0.0 else self.v2_origin
+        mass = self.c["mu"] * y[_L2]
+        return y[_P] / mass if mass > 0.0 else self.v2_origin
 
     def forces(self, y):
         """``(f1, f2, e1, e3)`` [N]: the soil's shaft friction and the plug's friction on the

@@ -104,6 +104,7 @@ class RigidGrowth(ModelBase):
         self._w_acc = self._w_rem = 0.0
         self._u2_keep = 0.0             # the plug's displacement while there is none
         self._merged = False            # plugged: pipe and plug one body of the exact solver
+        self._gripped = False           # a plug of length 0 carried by the pipe (_grips)
         self._merge_origin = (0.0, 0.0)  # (U1, U2) where the merged piece started
         self._st = state_record()
         self._par = self._par_for(self._l2, False)
@@ -209,7 +210,7 @@ class RigidGrowth(ModelBase):
         st, par = self._st, self._par
         u1, v1, u2, v2, w_in, w_outer, w_inner = values_at(st, par, t)
         w_face = face_work_at(st, t - st[T0])
-        if self._merged:
+        if self._merged or self._gripped:
             u2, v2 = self._merge_origin[1] + (u1 - self._merge_origin[0]), v1
         elif self._l2 == 0.0:
             u2, v2 = self._u2_keep, 0.0
@@ -259,17 +260,31 @@ class RigidGrowth(ModelBase):
         plugged = l2 >= self.params.L1
         if coupled and s2 != 0 and not (plugged and s2 > 0):
             self._begin_slide(t, u1, v1, u2, v2, w, load, (s1, s2, s3))
-        elif not coupled and s1 > 0:
+        elif not coupled and s1 > 0 and not self._gripped and not self._grips(u1, v1, load):
             self._begin_slide(t, u1, v1, u2, 0.0, w, load, (s1, 1, 0 if self._qp > 0 else 1))
         else:
+            self._gripped = self._gripped and not coupled and s1 > 0
             self._begin_exact(t, u1, v1, u2, v2, w, q, kick, coupled and plugged)
+
+    def _grips(self, u1, v1, load) -> bool:
+        """Whether the soil at the front of a pipe starting from rest with no plug grips it at
+        once instead of entering: a plug growing from nothing under a pipe accelerating at a1
+        moves at V2 = (k/mu) t / 3 while V1 = a1 t, so with k/mu >= 3 a1 (and no face
+        resistance to hold it) it keeps up with the pipe from the start; its length stays 0
+        (the limit of a plug of vanishing length stuck to the pipe) until the pipe stops."""
+        if v1 != 0.0 or self._qp > 0.0:
+            return False
+        force0, kappa, _ = segment(self._law, u1, 1.0)
+        a1 = (load + force0 - kappa * u1 - self._qf * face_on(self._law, u1)) / self.M1
+        self._gripped = self._k >= 3.0 * a1 * self._mu
+        return self._gripped
 
     def _begin_exact(self, t, u1, v1, u2, v2, w, q, kick, merged):
         self._slide = None
         self._merged = merged
         self._par = par = self._par_for(self._l2, merged)
         st = self._st
-        if merged:
+        if merged or self._gripped:
             self._merge_origin, kick = (u1, u2), 0
         w_in, w_outer, w_inner, w_face = w[:4]
         st[W_FACE] = w_face
@@ -316,9 +331,10 @@ class RigidGrowth(ModelBase):
             self._take_slide_event(t, y, labels)
             return True
         st, par = self._st, self._par
-        dt, labels = find_event(st, par, max(t_end - st[T0], 0.0))
+        horizon = max(t_end - st[T0], 0.0)
+        dt, labels = find_event(st, par, horizon)
         if self._merged:
-            dx = self._extrusion_time(dt)
+            dx = self._extrusion_time(min(dt, horizon))
             if dx < dt:
                 dt, labels = dx, _EXTRUDE
         t_event = st[T0] + dt
@@ -328,17 +344,17 @@ class RigidGrowth(ModelBase):
         return True
 
     def _extrusion_time(self, t_lim) -> float:
-        """In a merged piece: when the plug needs more than its friction limit to follow the
-        body's deceleration (``M2 a - e3 = -F2``), so that it slides ahead (model II: the
-        acceleration changes with the position; model I: constant, decided at the start)."""
+        """In a merged piece: when, within ``t_lim`` [s], the plug needs more than its friction
+        limit to follow the body's deceleration (``M2 a - e3 = -F2``), so that it slides ahead
+        (model II: the acceleration changes with the position; model I: constant, decided at
+        the start)."""
         st = self._st
         pipe = pipe_of(st)
-        if st[KIND] == AT_REST or pipe[3] == 0.0 or not math.isfinite(t_lim) and t_lim <= 0:
+        if st[KIND] == AT_REST or pipe[3] == 0.0 or not t_lim > 0.0:
             return math.inf
         target = (self._plug_face_share() - self._k * self._l2) / self.M2
-        horizon = t_lim if math.isfinite(t_lim) else 1e300
-        return time_to_position(pipe, st[U1] + (pipe[2] - target) / pipe[3], horizon,
-                                2.0 * ulp(st[T0] + min(horizon, 1e300)))
+        return time_to_position(pipe, st[U1] + (pipe[2] - target) / pipe[3], t_lim,
+                                2.0 * ulp(st[T0] + t_lim))
 
     def _take_exact_event(self, t, labels):
         st, par = self._st, self._par
@@ -354,7 +370,7 @@ class RigidGrowth(ModelBase):
         if self._merged:
             v2, kick = v1, (-1 if labels & _EXTRUDE else 0)
         elif self._l2 == 0.0:
-            v2 = 0.0
+            self._u2_keep, v2 = u2, 0.0
         self._start(t, u1, v1, u2, v2, w, st[Q], kick)
 
     def _take_slide_event(self, t, y, labels):
@@ -409,7 +425,8 @@ class RigidGrowth(ModelBase):
                           sl.steps, self._slide_w_in)
         return {"time": self._time, "q": self._q, "L2_now": self._l2, "W_accretion": self._w_acc,
                 "W_removed": self._w_rem, "u2_keep": self._u2_keep,
-                "merged": float(self._merged), "merge_u1": self._merge_origin[0],
+                "merged": float(self._merged), "gripped": float(self._gripped),
+                "merge_u1": self._merge_origin[0],
                 "merge_u2": self._merge_origin[1], "record": np.array(self._st, dtype=float),
                 "slide": slide, "modes": np.array(self._modes, dtype=np.int64).reshape(-1, 2)}
 
@@ -418,7 +435,7 @@ class RigidGrowth(ModelBase):
         self._time, self._q = float(state["time"]), float(state["q"])
         self._l2, self._w_acc = float(state["L2_now"]), float(state["W_accretion"])
         self._w_rem, self._u2_keep = float(state["W_removed"]), float(state["u2_keep"])
-        self._merged = bool(state["merged"])
+        self._merged, self._gripped = bool(state["merged"]), bool(state["gripped"])
         self._merge_origin = (float(state["merge_u1"]), float(state["merge_u2"]))
         self._st = [float(x) for x in np.asarray(state["record"])][:N_STATE]
         self._par = self._par_for(self._l2, self._merged)

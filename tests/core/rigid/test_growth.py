@@ -106,7 +106,7 @@ def test_a_pipe_held_while_the_plug_slides_ahead():
     model = build_model(p, GROW)
     model.advance(60e3, 0.002)
     rows = []
-    for k in range(1, 2000):
+    for _ in range(2000):
         model.advance(0.0, 2e-5)
         out = model.outputs()
         if out.pipe_mode == 0 and out.plug_mode == -1:
