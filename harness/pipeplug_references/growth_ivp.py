@@ -50,6 +50,7 @@ class _Growth:
         self.mu = p["rho2"] * math.pi * p["R1"] ** 2
         self.k = 2.0 * math.pi * p["R1"] * p["tau2"]
         self.qp = float(self.params.get("q_plug_face", 0.0)) * math.pi * p["R1"] ** 2
+        self.gripped = False        # a plug of length 0 carried by the pipe (_grips)
 
     def system(self, l2: float, merged: bool = False) -> FaceSystem:
         """face_ivp's system for a plug of length l2 (merged: one body with the pipe)."""
@@ -77,10 +78,10 @@ def _rhs(g, s, q, mode, u_start):
         v1 = y[_V1] if p else 0.0
         l2 = y[_L2]
         c1 = slope * y[_U1] + offset
-        if r == 0:
-            e3 = -g.qp if (p > 0 and l2 > 0.0) else 0.0
+        if r == 0:      # (merged: the plug's face is in the body's, s.qf, s.qp = 0)
+            e3 = -s.qp if (p > 0 and l2 > 0.0) else 0.0
             a1 = (q - p * c1 + face + e3) / (g.M1 + g.mu * l2) if p else 0.0
-            return [v1, a1, v1 if l2 > 0.0 else 0.0, g.mu * l2 * a1, 0.0, p * c1 * v1, 0.0, -(face + e3) * v1, 0.0]
+            return [v1, a1, v1 if (l2 > 0.0 or g.gripped) else 0.0, g.mu * l2 * a1, 0.0, p * c1 * v1, 0.0, -(face + e3) * v1, 0.0]
         v2 = _v2(g, mode, y)
         a1 = (q - p * c1 + face - r * g.k * l2) / g.M1 if p else 0.0
         e3 = (-g.qp if gg > 0 else 0.0) if gg else 0.0
@@ -125,7 +126,7 @@ def _events(g, s, q, mode, y0, merged):
         c2 = g.k * y0[_L2]
         slope, offset = s.branch(u_start, p)
         face = -s.qf_at(u_start) if p > 0 else 0.0
-        e3 = -g.qp if p > 0 else 0.0
+        e3 = -g.qp if p > 0 and (not merged or s.qf_at(u_start) > 0.0) else 0.0
 
         def f2(y):
             a = (q - p * (slope * y[_U1] + offset) + face + e3) / (g.M1 + m2)
@@ -140,6 +141,18 @@ def _events(g, s, q, mode, y0, merged):
     return evs
 
 
+def _grips(g, s, q, y) -> bool:
+    """A pipe starting from rest with no plug: the nascent plug (V2 = k t / (3 mu) against the
+    pipe's a1 t) keeps up with it when k >= 3 mu a1 and no face resistance holds it; it then
+    stays of length 0, carried, until the pipe stops."""
+    if y[_V1] != 0.0 or g.qp > 0.0:
+        return False
+    u1 = float(y[_U1])
+    a1 = (q - s.c1(u1) - s.qf_at(u1)) / g.M1
+    g.gripped = g.k >= 3.0 * g.mu * a1
+    return g.gripped
+
+
 def _decide(g, q, y, forced=(0, 0, 0)):
     """The modes at y (``y[-1]``: the plug's velocity), and whether the plugged pipe carries
     its plug as one body; ``forced``: signs fixed by the event (a held body that goes)."""
@@ -148,8 +161,9 @@ def _decide(g, q, y, forced=(0, 0, 0)):
     if l2 <= 0.0:
         s = g.system(0.0)
         (p, _, _), _ = face_modes(s, q, float(y[_U1]), ps, 0, 0)
-        if p > 0:
+        if p > 0 and not g.gripped and not _grips(g, s, q, y):
             return (p, 1, 0 if g.qp > 0.0 else 1), False
+        g.gripped = g.gripped and p > 0
         return (p, 0, 0), False
     s = g.system(l2)
     rs = forced[1] or int(np.sign(y[_V1] - y[-1]))
@@ -224,7 +238,8 @@ def simulate_growth(params: dict, segments: list, times, contact_growth: bool = 
         for j, col in zip(idx, ys.T):
             v2 = state_v2(col, md)
             v1 = col[_V1] if md[0] else 0.0
-            out["v_pipe"][j], out["v_plug"][j] = v1, v2 if col[_L2] > 0.0 else 0.0
+            out["v_pipe"][j] = v1
+            out["v_plug"][j] = v2 if (col[_L2] > 0.0 or (g.gripped and md[1] == 0)) else 0.0
             out["u_pipe"][j], out["u_plug"][j], out["L2_now"][j] = col[_U1], col[_U2], col[_L2]
             out["W_input"][j] = w0 + q * (col[_U1] - u0)
             out["W_friction_outer"][j], out["W_friction_inner"][j] = col[_WO], col[_WI]

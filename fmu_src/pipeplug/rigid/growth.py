@@ -232,9 +232,11 @@ class RigidGrowth(ModelBase):
         return f1, f2, face1
 
     def _plug_face_share(self) -> float:
-        """The plug's face force in a merged piece [N]: -Qp while the body advances."""
+        """The plug's face force in a merged piece [N]: -Qp while the body advances (model II:
+        from U1 >= 0 on, with the annulus)."""
         st = self._st
-        return -self._qp if st[KIND] != AT_REST and st[S1] > 0 else 0.0
+        on = face_on(self._law, st[U1])
+        return -self._qp * on if st[KIND] != AT_REST and st[S1] > 0 else 0.0
 
     def _restart(self, q: float) -> None:
         """A new force ``q`` [N] from now: a new piece."""
