@@ -81,7 +81,9 @@ def _rhs(g, s, q, mode, u_start):
         if r == 0:      # (merged: the plug's face is in the body's, s.qf, s.qp = 0)
             e3 = -s.qp if (p > 0 and l2 > 0.0) else 0.0
             a1 = (q - p * c1 + face + e3) / (g.M1 + g.mu * l2) if p else 0.0
-            return [v1, a1, v1 if (l2 > 0.0 or g.gripped) else 0.0, g.mu * l2 * a1, 0.0, p * c1 * v1, 0.0, -(face + e3) * v1, 0.0]
+            carried = v1 if (l2 > 0.0 or g.gripped) else 0.0
+            return [v1, a1, carried, g.mu * l2 * a1, 0.0, p * c1 * v1, 0.0, -(face + e3) * v1,
+                    0.0]
         v2 = _v2(g, mode, y)
         a1 = (q - p * c1 + face - r * g.k * l2) / g.M1 if p else 0.0
         e3 = (-g.qp if gg > 0 else 0.0) if gg else 0.0
