@@ -35,6 +35,7 @@ AT_REST = {"v_pipe": 0.0, "v_plug": 0.0, "F_outer": 0.0, "F_inner": 0.0, "E_kine
 #: result columns taken as the batch API gives them
 _GIVEN = ("u_pipe", "u_plug", "W_input", "W_friction_outer", "W_friction_inner", "t_end")
 _PARAMS = frozenset(p.name for p in PARAMETERS)
+_L2_DEFAULT = next(p.default for p in PARAMETERS if p.name == "L2")
 
 
 def run_chunk(spec, c: int) -> pa.Table:
@@ -60,6 +61,10 @@ def run_chunk(spec, c: int) -> pa.Table:
                "W_friction": out["W_friction_outer"] + out["W_friction_inner"],
                "E_transferred": out["W_input"],                # no ram: Q's own work
                "W_face": np.zeros(n),          # sweep files set no end resistance
+               # nor a growing plug: the plug keeps its length
+               "L2_now": np.broadcast_to(np.asarray(params.get("L2", _L2_DEFAULT), dtype=float),
+                                         (n,)).copy(),
+               "W_accretion": np.zeros(n), "W_removed": np.zeros(n),
                **{k: np.full(n, v) for k, v in AT_REST.items()},
                "error": pa.repeat("", n)}
     table = pa.table(columns, schema=schema(spec))
