@@ -161,6 +161,10 @@ class Slide:
         half = _rk4(self.rate, _rk4(self.rate, y, 0.5 * h), 0.5 * h)
         err = max(abs(b - a) / (sc + RTOL * abs(b))
                   for a, b, sc in zip(big, half, self.scale))
+        # The plug's velocity P/(mu L2) to the same share where the plug is short (a plug
+        # leaving the pipe with its face held back decelerates as 1/L2).
+        mass = self.c["mu"] * max(abs(half[_L2]), 1e-9 * self.c["L1"])
+        err = max(err, abs(half[_P] - big[_P]) / (mass * self.scale[_V1] + RTOL * abs(half[_P])))
         return [h2 + (h2 - h1) / 15.0 for h1, h2 in zip(big, half)], err
 
     def value_at(self, dt_node, y=None):

@@ -301,8 +301,31 @@ class RigidGrowth(ModelBase):
         w_in, w_outer, w_inner, w_face, w_acc = w[:5]
         y0 = [u1, v1 if s1 != 0 else 0.0, u2, self._mu * self._l2 * v2, self._l2, w_outer,
               w_inner, w_face, w_acc]
+        if self._l2 == 0.0 and v1 == 0.0 and s3 != 0:
+            t, y0, v2, w_in = self._nascent(t, y0, q, w_in)
         self._make_slide(t, y0, v2, modes, q, w_in)
         self._log(s1, modes[1])
+
+    def _nascent(self, t, y0, q, w_in):
+        """A plug growing from nothing behind a pipe starting from rest: the start is singular
+        (V2 = P/(mu L2), both 0), so the slide starts after a time ``tau`` from its
+        self-similar solution, V1 = a1 t, V2 = c a1 t, L2 = (1 - c) a1 t^2/2 with
+        c = k/(3 mu a1) < 1 (:meth:`_grips`); ``tau = 1e-8 sqrt(M1/k)`` leaves the next order,
+        (k/M1) tau^2, below round-off. Returns the slide's origin ``(t, y0, V2, W_input)``."""
+        u1 = y0[0]
+        force0, kappa, _ = segment(self._law, u1, 1.0)
+        face = self._qf * face_on(self._law, u1)
+        a1 = (q + force0 - kappa * u1 - face) / self.M1
+        c = self._k / (3.0 * self._mu * a1)
+        tau = 1e-8 * math.sqrt(self.M1 / self._k)
+        v1, d1 = a1 * tau, 0.5 * a1 * tau * tau
+        v2, l2 = c * v1, (1.0 - c) * d1
+        slip = (1.0 - c) * a1                   # V1 - V2 = slip t
+        y = [u1 + d1, v1, y0[2] + c * d1, self._mu * l2 * v2, l2,
+             y0[5] - (force0 - kappa * u1) * d1, y0[6] + self._k * (1.0 - c) * a1 * slip
+             * tau ** 4 / 8.0, y0[7] + face * d1,
+             y0[8] + self._mu * slip * (c * a1) ** 2 * tau ** 4 / 8.0]
+        return t + tau, y, v2, w_in + q * d1
 
     def _make_slide(self, t, y0, v2, modes, q, w_in):
         """The slide from ``y0`` at ``t`` [s] (:class:`~pipeplug.rigid.coring.Slide`), its
