@@ -34,6 +34,7 @@ __all__ = ["simulate_growth", "OUTPUT_NAMES"]
 OUTPUT_NAMES = ("v_pipe", "v_plug", "u_pipe", "u_plug", "L2_now", "W_input", "W_friction_outer",
                 "W_friction_inner", "W_face", "W_accretion", "W_removed", "E_kinetic")
 _U1, _V1, _U2, _P, _L2, _WO, _WI, _WF, _WA = range(9)
+_EMPTY = 1e-10          #: of L1: a shorter plug is taken as gone at a decision
 
 
 class _Growth:
@@ -250,7 +251,11 @@ def simulate_growth(params: dict, segments: list, times, contact_growth: bool = 
             out["E_kinetic"][j] = 0.5 * (g.M1 * v1 * v1 + g.mu * col[_L2] * v2 * v2)
 
     def decide(q, forced=(0, 0, 0)):
-        nonlocal mode, merged
+        nonlocal mode, merged, v2_now
+        if 0.0 < y[_L2] <= _EMPTY * g.L1:
+            # A plug of a length below round-off of the pipe's is gone: its velocity (P over a
+            # vanishing mass) no longer tells a mode.
+            y[_L2], v2_now = 0.0, 0.0
         yy = np.append(y, v2_now)
         mode, merged = _decide(g, q, yy, forced)
         if mode[1] == 0:
