@@ -189,6 +189,10 @@ class Model(Protocol):
         the outputs, consecutive repeats merged (exact: every piece between events; fd: every
         internal step; elastic: at x_monitor after every communication step)."""
 
+    def clean_out(self) -> None:
+        """Remove the plug down to ``L2_after_cleanout`` now (``plug_growth``; other models
+        raise :class:`~pipeplug.params.ParameterError`)."""
+
     def get_state(self) -> dict:
         """A copy of the whole internal state: plain floats, ints and numpy arrays."""
 
