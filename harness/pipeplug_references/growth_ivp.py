@@ -179,6 +179,31 @@ def _decide(g, q, y, forced=(0, 0, 0)):
     return mode, False
 
 
+def _self_similar(g, s, q, y, t, w_in):
+    """A plug growing from nothing behind a pipe starting from rest: (P, L2) = (0, 0) is
+    singular for V2 = P/(mu L2), so the piece starts after tau = 1e-8 sqrt(M1/k) from the
+    leading-order solution V1 = a1 t, V2 = c a1 t (c = k/(3 mu a1)), L2 = (1 - c) a1 t^2/2,
+    P = mu L2 V2 (next order (k/M1) tau^2 below round-off). Updates y; returns the new time,
+    W_input and V2."""
+    u1 = float(y[_U1])
+    c1, qf = s.c1(u1), s.qf_at(u1)
+    a1 = (q - c1 - qf) / g.M1
+    c = g.k / (3.0 * g.mu * a1)
+    tau = 1e-8 * math.sqrt(g.M1 / g.k)
+    d1 = 0.5 * a1 * tau * tau
+    v2, l2 = c * a1 * tau, (1.0 - c) * d1
+    slip = (1.0 - c) * a1
+    y[_U1] += d1
+    y[_V1] = a1 * tau
+    y[_U2] += c * d1
+    y[_P], y[_L2] = g.mu * l2 * v2, l2
+    y[_WO] += c1 * d1
+    y[_WI] += g.k * (1.0 - c) * a1 * slip * tau ** 4 / 8.0
+    y[_WF] += qf * d1
+    y[_WA] += g.mu * slip * (c * a1) ** 2 * tau ** 4 / 8.0
+    return t + tau, w_in + q * d1, v2
+
+
 def simulate_growth(params: dict, segments: list, times, contact_growth: bool = False, *,
                     cleanouts=(), rtol: float = RTOL, max_pieces: int = 100_000) -> dict:
     """The rigid model with a growing plug under a piecewise-constant load.
@@ -277,6 +302,9 @@ def simulate_growth(params: dict, segments: list, times, contact_growth: bool = 
             pieces += 1
             if pieces > max_pieces:
                 raise RuntimeError(f"more than {max_pieces} pieces")
+            if (mode[0] > 0 and mode[1] > 0 and mode[2] != 0 and y[_L2] == 0.0
+                    and y[_V1] == 0.0):
+                t, w_in, v2_now = _self_similar(g, g.system(0.0), q, y, t, w_in)
             y0, w0 = y.copy(), w_in
             if mode[0] == 0 and mode[1] == 0:
                 idx = np.nonzero((times >= t) & (times <= tb))[0]
@@ -286,9 +314,13 @@ def simulate_growth(params: dict, segments: list, times, contact_growth: bool = 
                 t = tb
                 break
             s = g.system(0.0 if y0[_L2] <= 0.0 else y0[_L2], merged)
+            tight = atol.copy()
+            if mode[1] > 0:         # a growing plug to a share of itself (from nothing: tiny)
+                tight[_L2] = 1e-300
+                tight[_P] = 1e-3 * rtol * g.mu * max(y0[_L2], 1e-30 * g.L1) * vscale
             sol = solve_ivp(_rhs(g, s, q, mode, y0[_U1]), (t, tb), y0, method="DOP853",
                             events=_events(g, s, q, mode, y0, merged) or None, rtol=rtol,
-                            atol=atol, dense_output=True)
+                            atol=tight, dense_output=True)
             if sol.status < 0:
                 raise RuntimeError(sol.message)
             fired = None

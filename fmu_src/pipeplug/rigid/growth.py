@@ -72,6 +72,7 @@ from .stress import axial_extremes
 __all__ = ["RigidGrowth"]
 
 _EVENT_SNAP = 1e-13            # as the exact solver's: an event this close after a step's end
+_EMPTY = 1e-10                 # of L1: a shorter plug is gone (at the start of a piece)
 _EXTRUDE = 1 << 20             # a plugged pipe's plug starts sliding ahead (merged pieces)
 _SLIDE_KEYS = 9 + 9 + 11       # origin y, node y, and the scalars of a Slide in a state
 
@@ -254,6 +255,11 @@ class RigidGrowth(ModelBase):
         pipe (or the pipe advances with no plug: coring from nothing), else an exact piece."""
         self._q = q
         load = 0.0 if q != q else q
+        if 0.0 < self._l2 <= _EMPTY * self.params.L1:
+            # Shorter than round-off of the pipe's length: the plug is gone (its velocity, P
+            # over a vanishing mass, no longer tells a mode).
+            self._set_length(0.0, u2)
+            v2 = 0.0
         l2 = self._l2
         real = self._par_for(l2, False)
         coupled = l2 > 0.0
