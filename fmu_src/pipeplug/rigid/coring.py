@@ -168,7 +168,9 @@ class Slide:
             # A growing plug's length to a share of itself (it only grows here): a plug
             # growing from nothing is self-similar, L2 ~ t^2, and would otherwise take steps
             # of its own age with an error of its own size.
-            err = max(err, abs(half[_L2] - big[_L2]) / (RTOL * length + 1e-300))
+            # (No finer than the round-off of the positions it is the difference of.)
+            floor = 1e-15 * (abs(half[_U1]) + abs(half[_U2])) + 1e-300
+            err = max(err, abs(half[_L2] - big[_L2]) / (RTOL * length + floor))
         else:
             length = max(length, 1e-9 * self.c["L1"])
         mass = self.c["mu"] * length
