@@ -56,9 +56,14 @@ def build_model(params: Params | Mapping[str, float] | None = None,
         _check_face(params, options)
     if params.has_damping:
         _check_damping(params, options)
-    if options.plug_growth and not options.elastic:
-        raise ParameterError("plug_growth", True, "False in the rigid models (model III, "
-                             "elastic = True, carries a plug that grows)")
+    if options.plug_growth:
+        _check_growth(params, options)
+        if not options.elastic:
+            model = _variant("rigid_growth")(params, options)
+            if profile_points:
+                from .rigid.stress import RigidProfiles
+                model._profiler = RigidProfiles(params, options.contact_growth, profile_points)
+            return model
     if options.elastic:
         name = "growth" if options.plug_growth else "elastic"
         return _variant(name)(params, options, profile_points=profile_points)
@@ -96,6 +101,11 @@ def _fd() -> type:
     return RigidFd
 
 
+def _rigid_growth() -> type:
+    from .rigid.growth import RigidGrowth
+    return RigidGrowth
+
+
 def _exact() -> type:
     from .rigid.exact import RigidExact
     return RigidExact
@@ -107,7 +117,7 @@ def _damped() -> type:
 
 
 _IMPORTS = {"elastic": _elastic, "growth": _growth, "fd": _fd, "exact": _exact,
-            "damped": _damped}
+            "damped": _damped, "rigid_growth": _rigid_growth}
 _CLASSES: dict[str, type] = {}        # the variants imported so far
 
 
@@ -161,3 +171,19 @@ def _check_damping(params: Params, options: Options) -> None:
         raise ParameterError(name, value, "0 with contact_growth and solver = 'exact' (model "
                              "II's damped shaft friction J_shaft P1 tau1 U1 U1' is not linear, "
                              "so its pieces are not in closed form; solver = 'fd' carries it)")
+
+
+def _check_growth(params: Params, options: Options) -> None:
+    """Refuse a growing plug where a model does not carry it: the rigid exact solver carries
+    it (without a ram), and so does the elastic model; the paper's explicit scheme does not."""
+    if options.elastic:
+        return                        # model III carries it, with a ram too
+    if options.solver == "fd":
+        raise ParameterError("plug_growth", True, "False with solver = 'fd' (the exact solver "
+                             "carries a growing plug)")
+    if params.has_ram:
+        raise ParameterError("plug_growth", True, f"False with a ram (ram_mass = "
+                             f"{params.ram_mass!r} > 0) in the rigid models")
+    if not params.tau2 > 0.0:
+        raise ParameterError("plug_growth", True, "False with tau2 = 0 (a plug without "
+                             "friction on the pipe is not simulated)")

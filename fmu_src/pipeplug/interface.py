@@ -23,7 +23,7 @@ from .params import ParameterError
 
 __all__ = ["Output", "OUTPUTS", "OUTPUT_NAMES", "PER_STEP", "Outputs", "Model", "ModelBase",
            "LEDGER_SOURCES", "Profile", "PROFILES", "PROFILE_POINTS", "profile_sections",
-           "LEDGER_TERMS", "ledger_residual"]
+           "LEDGER_TERMS", "ledger_residual", "GROWTH_OUTPUTS"]
 
 
 class Output(NamedTuple):
@@ -90,15 +90,20 @@ OUTPUTS: tuple[Output, ...] = (
     Output("W_damping", "J", "Real", "energy dissipated by the Smith damping of the shaft "
                                      "friction and the end resistances since t = 0 (>= 0, "
                                      "never decreases; 0 with J_shaft = J_face = 0)"),
-    Output("L2_now", "m", "Real", "the plug's length now (L2 without plug_growth; with it, "
-                                  "grown by coring and cut by clean-outs)"),
-    Output("W_accretion", "J", "Real", "energy dissipated as soil at rest joined the growing "
-                                       "plug since t = 0 (>= 0, never decreases; 0 without "
+    Output("L2_now", "m", "Real", "the plug's length now (the parameter L2 unless plug_growth or a "
+                                  "clean-out changed it)"),
+    Output("W_accretion", "J", "Real", "energy lost as soil at rest joins the plug (rigid models "
+                                       "also: soil the plug pushes out of the pipe's front end "
+                                       "comes to rest, the plug's impact on the head when it "
+                                       "fills the pipe) (>= 0, never decreases; 0 without "
                                        "plug_growth)"),
-    Output("W_removed", "J", "Real", "energy carried out of the pipe with the soil the "
-                                     "clean-outs removed since t = 0 (kinetic, and strain at "
-                                     "the cut)"),
+    Output("W_removed", "J", "Real", "energy of the soil the clean-outs removed since t = 0 "
+                                     "(kinetic; model III also the strain at the cut)"),
 )
+
+#: The outputs every model without a growing plug gives as constants: L2_now (the parameter L2),
+#: W_accretion and W_removed (0).
+GROWTH_OUTPUTS: tuple[str, ...] = ("L2_now", "W_accretion", "W_removed")
 
 OUTPUT_NAMES: tuple[str, ...] = tuple(o.name for o in OUTPUTS)
 
@@ -188,6 +193,10 @@ class Model(Protocol):
         the outputs, consecutive repeats merged (exact: every piece between events; fd: every
         internal step; elastic: at x_monitor after every communication step)."""
 
+    def clean_out(self) -> None:
+        """Remove the plug down to ``L2_after_cleanout`` now (``plug_growth``; other models
+        raise :class:`~pipeplug.params.ParameterError`)."""
+
     def get_state(self) -> dict:
         """A copy of the whole internal state: plain floats, ints and numpy arrays."""
 
@@ -223,17 +232,18 @@ class ModelBase:
         """
         raise ParameterError("strikes", "an increase", "none without a ram (ram_mass > 0)")
 
-    def cleanout(self) -> None:
-        """Remove the plug down to ``L2_after_cleanout`` now; a model whose plug grows
+    def clean_out(self) -> None:
+        """Remove the plug down to ``L2_after_cleanout`` now; a model with a growing plug
         overrides this.
 
         Raises
         ------
         ParameterError
-            Always: this model's plug does not change length (``plug_growth`` off).
+            Always: this model's plug does not change (``plug_growth`` is off, or a model that
+            does not carry it).
         """
-        raise ParameterError("cleanouts", "an increase",
-                             "none without plug_growth (model III carries clean-outs)")
+        raise ParameterError("cleanouts", "an increase", "none without plug_growth = True "
+                             "(rigid models)")
 
     def advance(self, q: float, h: float) -> None:
         """Advance by ``h`` [s] > 0 under a constant struck-end force ``q`` [N]."""

@@ -21,8 +21,9 @@ OPTIONS: dict[str, tuple[tuple, object, str]] = {
                        "model II: outer friction over the penetrated length min(max(s,0),L1)"),
     "elastic": ((False, True), False, "model III: pipe and plug are elastic rods"),
     "plug_growth": ((False, True), False,
-                    "the plug grows: soil at rest enters while the pipe's front end advances "
-                    "faster than the plug's (coring); model III"),
+                    "the plug grows by the soil that enters the pipe's front end while the pipe "
+                    "advances over it (coring); rigid models: it shrinks by what leaves it while "
+                    "it moves ahead of the pipe, model III: it keeps its length then"),
 }
 
 

@@ -123,9 +123,9 @@ PARAMETERS: tuple[Parameter, ...] = (
               "pipe's outer face, the plug on its inner face); 0: absent", 0.0, upper=1e3),
     Parameter("J_face", "s/m", 0.0, "Smith damping of the end resistances: an advancing end "
               "resists with q S (1 + J_face v), v its speed; 0: absent", 0.0, upper=1e3),
-    Parameter("L2_after_cleanout", "m", 0.0, "plug length a clean-out (a rise of the input "
-              "cleanouts) leaves in the pipe, at its front; model III: rounded down to whole "
-              "cells", 0.0, upper_of="L1"),
+    Parameter("L2_after_cleanout", "m", 0.0, "plug length a clean-out leaves (each increase of "
+              "the input cleanouts removes the plug down to it; model III: rounded down to "
+              "whole cells)", 0.0, upper_of="L1"),
 )
 
 _BY_NAME = {p.name: p for p in PARAMETERS}

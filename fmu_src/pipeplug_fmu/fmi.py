@@ -26,6 +26,10 @@ INPUTS = (
      "discarded); a decrease starts none"),
     ("v_strike", "Real", "m/s", 0.0, "the ram's velocity when a strike starts (positive "
                                      "towards the soil)"),
+    ("cleanouts", "Integer", None, 0,
+     "clean-outs so far: each increase (from 0 at the start) seen at a communication point "
+     "removes the plug down to L2_after_cleanout there (with plug_growth = true; else the step "
+     "is discarded); a decrease removes nothing"),
 )
 
 #: SI base-unit exponents (and factor) of every unit used (for <UnitDefinitions>).

@@ -38,8 +38,10 @@ for _module in pkgutil.walk_packages(core.__path__, core.__name__ + "."):
 _KIND_OF_OUTPUT = {"Real": ("Real", "continuous", 0.0), "Integer": ("Integer", "discrete", 0),
                    "Boolean": ("Boolean", "discrete", False)}
 _MODES = {o.name for o in core.OUTPUTS if o.kind == "Integer"}
-_SEEN = "fmu_strikes_seen"     # the adapter's own field in an FMU state
-_ALLOWED_INPUT = {"Q": "finite [N]", "strikes": "an Integer", "v_strike": "finite [m/s]"}
+_SEEN = "fmu_strikes_seen"     # the adapter's own fields in an FMU state
+_CLEANED = "fmu_cleanouts_seen"
+_ALLOWED_INPUT = {"Q": "finite [N]", "strikes": "an Integer", "v_strike": "finite [m/s]",
+                  "cleanouts": "an Integer"}
 
 
 class PipePlugSlave(FmiBase):
@@ -60,6 +62,7 @@ class PipePlugSlave(FmiBase):
         self._add_inputs(INPUTS[:1])
         self._q = self._inputs["Q"]
         self._strikes_seen = 0      # the strikes counter the model has acted on
+        self._cleanouts_seen = 0    # and the clean-outs counter
         for out in core.OUTPUTS:
             kind, variability, start = _KIND_OF_OUTPUT[out.kind]
             self._add(kind, out.name, start, out.unit, out.meaning, "output", variability,
@@ -109,6 +112,7 @@ class PipePlugSlave(FmiBase):
         params = {p.name: values[p.name] for p in core.PARAMETERS}
         options = {name: values[name] for name in core.OPTIONS}
         self._strikes_seen = 0      # a counter that rose before the first step strikes then
+        self._cleanouts_seen = 0    # (and cleans out then)
         try:
             # The exact rigid solver runs as plain Python here: a whole run is faster without
             # numba's import (README, "Performance of the FMU"); elastic kernels compile.
@@ -126,9 +130,14 @@ class PipePlugSlave(FmiBase):
         if not q - q == 0.0:                                   # NaN or infinite
             raise Discard.of("Q", q, "finite [N]")
         strikes = self._tables["Integer"][self._inputs["strikes"]]
+        cleanouts = self._tables["Integer"][self._inputs["cleanouts"]]
         struck = strikes > self._strikes_seen
-        saved = model.get_state() if struck else None
+        cleaned = cleanouts > self._cleanouts_seen
+        saved = model.get_state() if struck or cleaned else None
         try:
+            if cleaned:
+                # One clean-out for any rise, as for strikes.
+                model.clean_out()
             if struck:
                 # One strike for any rise: strikes at one instant are one strike.
                 model.strike(self._reals[self._inputs["v_strike"]])
@@ -140,23 +149,23 @@ class PipePlugSlave(FmiBase):
             if saved is not None:
                 model.set_state(saved)
             raise Discard(refusal(exc.name, exc.value, exc.allowed)) from None
-        self._strikes_seen = strikes
+        self._strikes_seen, self._cleanouts_seen = strikes, cleanouts
         if self.ARRAYS:
             return (*model.outputs(), *(a.tolist() for a in model.profiles()))
         return model.outputs()
 
     def _save(self, model) -> dict:
         state = {k: (v.copy() if hasattr(v, "copy") else v) for k, v in model.get_state().items()}
-        state[_SEEN] = self._strikes_seen
+        state[_SEEN], state[_CLEANED] = self._strikes_seen, self._cleanouts_seen
         return state
 
     def _load(self, model, saved: dict) -> None:
-        wrong = conformity(dict(model.get_state(), **{_SEEN: 0}), saved)
+        wrong = conformity(dict(model.get_state(), **{_SEEN: 0, _CLEANED: 0}), saved)
         if wrong is not None:
             raise Refuse.of(self.STATE, wrong, "the state of a model of these parameters")
         model.set_state({k: (v.copy() if hasattr(v, "copy") else v) for k, v in saved.items()
-                         if k != _SEEN})
-        self._strikes_seen = int(saved[_SEEN])
+                         if k not in (_SEEN, _CLEANED)})
+        self._strikes_seen, self._cleanouts_seen = int(saved[_SEEN]), int(saved[_CLEANED])
 
     @classmethod
     def _model_to_bytes(cls, saved: dict) -> bytes:

@@ -265,7 +265,7 @@ class CoreSession:
         self.steps = 0
         # the FMU's inputs the model's methods stand for (a model that cleans out has one)
         self.inputs = frozenset({"Q", "strikes", "v_strike"}
-                                | ({"cleanouts"} if hasattr(self.model, "cleanout") else set()))
+                                | ({"cleanouts"} if hasattr(self.model, "clean_out") else set()))
 
     def strike(self, velocity: float) -> None:
         """Start a strike of the ram [m/s] with the next step (as the FMU's input
@@ -274,7 +274,7 @@ class CoreSession:
 
     def cleanout(self) -> None:
         """Clean the plug out with the next step (as the FMU's input ``cleanouts`` rising)."""
-        self.model.cleanout()
+        self.model.clean_out()
 
     def step(self, t: float, h: float, q: float) -> Outputs:
         """Hold Q = ``q`` [N] from ``t`` to ``t + h`` [s] (as the FMU's doStep: from the host's

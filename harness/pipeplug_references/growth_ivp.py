@@ -1,20 +1,23 @@
-"""Reference for a plug that grows: rigid pipe and rigid plug taking in soil at rest (scipy).
+"""Reference solution of the rigid models with a plug that grows, by ODE integration.
 
-Independent of the core (never imports it). A frictionless pipe (no soil friction, no end
-resistance) of mass M1 cores the soil: its plug, of length L (from L0, possibly 0) and mass
-m = rho2 S2 L, slides in it against the friction tau2 P2 L while the pipe is faster; soil at
-rest joins the plug at the pipe's front end, so the length grows at the relative velocity and
-the plug's momentum changes by the friction alone (the soil that joins brings none)::
+The plug is the soil inside the pipe, its front face at the pipe's front end; its length L2
+follows the relative displacement while it slides in the pipe (docs/physics.md, "A plug that
+grows")::
 
-    dL/dt  = v1 - v2                  (while v1 > v2)
-    dp/dt  = tau2 P2 L                p = m v2, the plug's momentum
-    M1 dv1/dt = Q(t) - tau2 P2 L
+    M1 U1'' = Q + f1 + e1 + f2,          f2 = -r k L2 while sliding (k = P2 tau2)
+    P' = r k L2 + e3 - mu (V2 - V1)+ V2,  P = mu L2 V2 (mu = rho2 S2),  L2' = V1 - V2
+    W_accretion' = mu |V1 - V2| V2^2 / 2
 
-When the plug reaches the pipe's velocity the two stick and move on together (no relative
-advance: no more soil enters; under Q = 0 at a constant velocity). Momentum is conserved:
-``M1 v1 + p = M1 v1(0) + integral of Q``; the energy the soil's uptake dissipates is
-``integral of (1/2) rho2 S2 (v1 - v2) v2^2 dt`` (each mass dm taken up at rest costs dm v2^2/2),
-and the friction's ``integral of tau2 P2 L (v1 - v2) dt``.
+At L2 = L1 the pipe is plugged (the plug meets the head in a plastic impact and is carried
+until it slides ahead); at L2 = 0 the plug is gone (the pipe alone, coring again as soon as
+it advances). Every piece of constant modes ``(p, r, g)`` (signs of U1', U1' - U2', U2'; 0
+stuck) is integrated by scipy's DOP853 (rtol 1e-13), the works and W_accretion as parts of the
+state, with a terminal event for every mode change: a velocity's zero, the plug filling or
+leaving the pipe, a held pipe's or plug's load leaving its window, model II's kinks. Modes are
+decided at every event by :func:`pipeplug_references.face_ivp.face_modes` on a system of the
+plug's current length; a plugged pipe that would core is decided as one body.
+
+Independence: numpy, scipy and the other references only, nothing of the project's core.
 """
 from __future__ import annotations
 
@@ -23,67 +26,361 @@ import math
 import numpy as np
 from scipy.integrate import solve_ivp
 
-__all__ = ["simulate_coring"]
+from .face_ivp import FaceSystem, face_modes
+from .rigid_ivp import MAX_STALLED, RTOL
+
+__all__ = ["simulate_growth", "OUTPUT_NAMES"]
+
+OUTPUT_NAMES = ("v_pipe", "v_plug", "u_pipe", "u_plug", "L2_now", "W_input", "W_friction_outer",
+                "W_friction_inner", "W_face", "W_accretion", "W_removed", "E_kinetic")
+_U1, _V1, _U2, _P, _L2, _WO, _WI, _WF, _WA = range(9)
+_EMPTY = 1e-10          #: of L1: a shorter plug is taken as gone at a decision
 
 
-def simulate_coring(p: dict, force: float, duration: float, times) -> dict:
-    """The coring pipe under ``force`` [N] for ``duration`` [s] from rest, then free, at
-    ``times`` [s].
+class _Growth:
+    """The constants and the current plug length."""
+
+    def __init__(self, params: dict, contact_growth: bool):
+        self.params = dict(params)
+        self.after = float(self.params.pop("L2_after_cleanout", 0.0))
+        self.growth = contact_growth
+        full = FaceSystem(dict(self.params, L2=self.params.get("L1", 1.0)), contact_growth)
+        self.base = full
+        self.L1, self.M1 = full.L1, full.M1
+        p = {"R1": 0.035, "rho2": 1800.0, "tau2": 1.0e4, **self.params}
+        self.mu = p["rho2"] * math.pi * p["R1"] ** 2
+        self.k = 2.0 * math.pi * p["R1"] * p["tau2"]
+        self.qp = float(self.params.get("q_plug_face", 0.0)) * math.pi * p["R1"] ** 2
+        self.gripped = False        # a plug of length 0 carried by the pipe (_grips)
+
+    def system(self, l2: float, merged: bool = False) -> FaceSystem:
+        """face_ivp's system for a plug of length l2 (merged: one body with the pipe)."""
+        s = FaceSystem(dict(self.params, L2=l2), self.growth)
+        if merged:
+            s.M1, s.qf, s.plug, s.M2, s.c2, s.qp = s.M1 + s.M2, s.qf + s.qp, False, 0.0, 0.0, 0.0
+        return s
+
+
+def _v2(g, mode, y):
+    p, r, gg = mode
+    if r == 0:
+        return y[_V1]
+    if gg == 0:
+        return 0.0
+    return y[_P] / (g.mu * y[_L2]) if y[_L2] > 0.0 else 0.0
+
+
+def _rhs(g, s, q, mode, u_start):
+    p, r, gg = mode
+    slope, offset = s.branch(u_start, p) if p else (0.0, 0.0)
+    face = -s.qf_at(u_start) if p > 0 else 0.0
+
+    def rhs(_, y):
+        v1 = y[_V1] if p else 0.0
+        l2 = y[_L2]
+        c1 = slope * y[_U1] + offset
+        if r == 0:      # (merged: the plug's face is in the body's, s.qf, s.qp = 0)
+            e3 = -s.qp if (p > 0 and l2 > 0.0) else 0.0
+            a1 = (q - p * c1 + face + e3) / (g.M1 + g.mu * l2) if p else 0.0
+            carried = v1 if (l2 > 0.0 or g.gripped) else 0.0
+            return [v1, a1, carried, g.mu * l2 * a1, 0.0, p * c1 * v1, 0.0, -(face + e3) * v1,
+                    0.0]
+        v2 = _v2(g, mode, y)
+        a1 = (q - p * c1 + face - r * g.k * l2) / g.M1 if p else 0.0
+        e3 = (-g.qp if gg > 0 else 0.0) if gg else 0.0
+        dp = 0.0
+        if gg:
+            dp = r * g.k * l2 + e3 - (g.mu * (v2 - v1) * v2 if r < 0 else 0.0)
+        return [v1, a1, v2, dp, v1 - v2, p * c1 * v1, r * g.k * l2 * (v1 - v2), -face * v1
+                - e3 * v2, 0.5 * g.mu * abs(v1 - v2) * v2 * v2]
+    return rhs
+
+
+def _events(g, s, q, mode, y0, merged):
+    p, r, gg = mode
+    evs = []
+
+    def add(fun, name, direction=-1):
+        def event(t, y):
+            return fun(y)
+        event.terminal, event.direction, event.name = True, direction, name
+        evs.append(event)
+
+    if p:
+        add(lambda y: p * y[_V1], "pipe stops")
+    if r:
+        add(lambda y: r * (y[_V1] - _v2(g, mode, y)), "plug sticks")
+        if r > 0:
+            add(lambda y: g.L1 - y[_L2], "plug fills the pipe")
+        else:
+            add(lambda y: y[_L2], "plug leaves the pipe")
+        if gg and g.qp > 0.0 and p:
+            add(lambda y: gg * _v2(g, mode, y), "plug stops")
+        if gg == 0:
+            add(lambda y: g.qp - r * g.k * y[_L2], "held plug goes")
+            add(lambda y: r * g.k * y[_L2] + 1e-300, "held plug goes")
+        if p == 0:
+            c1, qf = s.c1(y0[_U1]), s.qf_at(y0[_U1])
+            add(lambda y: c1 + qf - (q - r * g.k * y[_L2]), "held pipe goes")
+            add(lambda y: c1 + (q - r * g.k * y[_L2]), "held pipe goes")
+    if p and r == 0 and y0[_L2] > 0.0 and s.dc1(y0[_U1], p) > 0.0:
+        u_start = y0[_U1]
+        m2 = g.mu * y0[_L2]
+        c2 = g.k * y0[_L2]
+        slope, offset = s.branch(u_start, p)
+        face = -s.qf_at(u_start) if p > 0 else 0.0
+        e3 = -g.qp if p > 0 and (not merged or s.qf_at(u_start) > 0.0) else 0.0
+
+        def f2(y):
+            a = (q - p * (slope * y[_U1] + offset) + face + e3) / (g.M1 + m2)
+            return -(m2 * a - e3)
+        add(lambda y: c2 - f2(y), "plug breaks away ahead")
+        if not merged:
+            add(lambda y: c2 + f2(y), "plug breaks away behind")
+    if p and s.kinks():
+        for kink in (0.0, s.L1):
+            if (p > 0 and y0[_U1] < kink) or (p < 0 and y0[_U1] > kink):
+                add(lambda y, kink=kink: y[_U1] - kink, "kink", p)
+    return evs
+
+
+def _grips(g, s, q, y) -> bool:
+    """A pipe starting from rest with no plug: the nascent plug (V2 = k t / (3 mu) against the
+    pipe's a1 t) keeps up with it when k >= 3 mu a1 and no face resistance holds it; it then
+    stays of length 0, carried, until the pipe stops."""
+    if y[_V1] != 0.0 or g.qp > 0.0:
+        return False
+    u1 = float(y[_U1])
+    a1 = (q - s.c1(u1) - s.qf_at(u1)) / g.M1
+    g.gripped = g.k >= 3.0 * g.mu * a1
+    return g.gripped
+
+
+def _decide(g, q, y, forced=(0, 0, 0)):
+    """The modes at y (``y[-1]``: the plug's velocity), and whether the plugged pipe carries
+    its plug as one body; ``forced``: signs fixed by the event (a held body that goes)."""
+    l2 = y[_L2]
+    ps = forced[0] or int(np.sign(y[_V1]))
+    if l2 <= 0.0:
+        s = g.system(0.0)
+        (p, _, _), _ = face_modes(s, q, float(y[_U1]), ps, 0, 0)
+        if p > 0 and not g.gripped and not _grips(g, s, q, y):
+            return (p, 1, 0 if g.qp > 0.0 else 1), False
+        g.gripped = g.gripped and p > 0
+        return (p, 0, 0), False
+    s = g.system(l2)
+    rs = forced[1] or int(np.sign(y[_V1] - y[-1]))
+    gs = forced[2] or int(np.sign(y[-1]))
+    mode, _ = face_modes(s, q, float(y[_U1]), ps, rs, gs)
+    if l2 >= g.L1 and mode[1] > 0:
+        sm = g.system(l2, merged=True)
+        (p, _, _), _ = face_modes(sm, q, float(y[_U1]), ps, 0, 0)
+        return (p, 0, p), True
+    return mode, False
+
+
+def _self_similar(g, s, q, y, t, w_in):
+    """A plug growing from nothing behind a pipe starting from rest: (P, L2) = (0, 0) is
+    singular for V2 = P/(mu L2), so the piece starts after tau = 1e-8 sqrt(M1/k) from the
+    leading-order solution V1 = a1 t, V2 = c a1 t (c = k/(3 mu a1)), L2 = (1 - c) a1 t^2/2,
+    P = mu L2 V2 (next order (k/M1) tau^2 below round-off). Updates y; returns the new time,
+    W_input and V2."""
+    u1 = float(y[_U1])
+    c1, qf = s.c1(u1), s.qf_at(u1)
+    a1 = (q - c1 - qf) / g.M1
+    c = g.k / (3.0 * g.mu * a1)
+    tau = 1e-8 * math.sqrt(g.M1 / g.k)
+    d1 = 0.5 * a1 * tau * tau
+    v2, l2 = c * a1 * tau, (1.0 - c) * d1
+    slip = (1.0 - c) * a1
+    y[_U1] += d1
+    y[_V1] = a1 * tau
+    y[_U2] += c * d1
+    y[_P], y[_L2] = g.mu * l2 * v2, l2
+    y[_WO] += c1 * d1
+    y[_WI] += g.k * (1.0 - c) * a1 * slip * tau ** 4 / 8.0
+    y[_WF] += qf * d1
+    y[_WA] += g.mu * slip * (c * a1) ** 2 * tau ** 4 / 8.0
+    return t + tau, w_in + q * d1, v2
+
+
+def simulate_growth(params: dict, segments: list, times, contact_growth: bool = False, *,
+                    cleanouts=(), rtol: float = RTOL, max_pieces: int = 100_000) -> dict:
+    """The rigid model with a growing plug under a piecewise-constant load.
 
     Parameters
     ----------
-    p : dict
-        L1, L2 (the starting length) [m], R1, h1 [m], rho1, rho2 [kg/m3], tau2 [Pa].
+    params : dict
+        Contract names (SI): the pipe, the plug (``L2`` may be 0), ``tau1``, ``tau2 > 0``,
+        ``q_face``, ``q_plug_face``, ``L2_after_cleanout``.
+    segments : list of (duration [s], Q [N])
+        The load; 0 after the last segment.
+    times : array
+        Increasing sample times [s].
+    contact_growth : bool
+        Model II.
+    cleanouts : sequence of float
+        Times [s] of clean-outs (each cuts the plug to ``L2_after_cleanout``).
 
     Returns
     -------
-    dict of arrays
-        ``v_pipe``, ``v_plug`` [m/s], ``u_pipe`` [m], ``L2_now`` [m], ``W_accretion``,
-        ``W_friction_inner``, ``W_input`` [J].
+    dict of arrays, :data:`OUTPUT_NAMES` at ``times``, and ``events`` (time, text).
     """
-    S1 = math.pi * ((p["R1"] + p["h1"]) ** 2 - p["R1"] ** 2)
-    S2 = math.pi * p["R1"] ** 2
-    M1, rho_s = p["rho1"] * S1 * p["L1"], p["rho2"] * S2
-    grip = 2.0 * math.pi * p["R1"] * p["tau2"]          # tau2 P2, friction per metre [N/m]
+    g = _Growth(params, contact_growth)
     times = np.asarray(times, dtype=float)
+    out = {name: np.zeros(times.size) for name in OUTPUT_NAMES}
+    edges, ta = [], 0.0
+    for duration, q in segments:
+        edges.append((ta, q))
+        ta += duration
+    edges.append((ta, 0.0))
+    cuts = sorted({*(t for t, _ in edges), *map(float, cleanouts), float(times[-1])})
+    cleaned = {float(c) for c in cleanouts}
 
-    def plug_velocity(L, mom):
-        return mom / (rho_s * L) if L > 0.0 else 0.0
+    def load_at(t):
+        q = 0.0
+        for start, value in edges:
+            if start <= t:
+                q = value
+        return q
 
-    def rates(t, y):
-        u1, v1, L, mom, w_acc, w_fr, w_in = y
-        q = force if t < duration else 0.0
-        v2 = plug_velocity(L, mom)
-        slip = max(v1 - v2, 0.0)
-        f = grip * L if v1 > v2 else 0.0
-        return [v1, (q - f) / M1, slip, f, 0.5 * rho_s * slip * v2 * v2, f * slip, q * v1]
+    impulse = sum(abs(q) * d for d, q in segments) or 1.0
+    vscale = impulse / g.M1
+    lscale = max(g.L1, vscale * max(times[-1], 1e-300))
+    wscale = impulse * vscale
+    atol = 1e-3 * rtol * np.array([lscale, vscale, lscale, g.mu * g.L1 * vscale, g.L1,
+                                   wscale, wscale, wscale, wscale])
+    y = np.zeros(9)
+    y[_L2] = float(params.get("L2", 1.0))
+    w_in = w_removed = 0.0
+    events = []
+    k = 0
+    mode, merged = (0, 0, 0), False
+    v2_now = 0.0
+    pieces = stalled = 0
 
-    def stuck(t, y):
-        return y[1] - plug_velocity(y[2], y[3]) if t > 0.0 else 1.0
-    stuck.terminal, stuck.direction = True, -1
+    def state_v2(yy, md):
+        return _v2(g, md, yy)
 
-    y0 = [0.0, 0.0, p["L2"], 0.0, 0.0, 0.0, 0.0]
-    out = np.empty((7, times.size))
-    y = np.array(y0)
-    pieces = [(0.0, duration), (duration, float(times[-1]))]
-    for start, end in pieces:
-        if end <= start:
-            continue
-        sol = solve_ivp(rates, (start, end), y, method="DOP853", rtol=1e-11, atol=1e-14,
-                        dense_output=True, events=stuck if start >= duration else None)
-        stop = sol.t[-1]
-        inside = (times >= start) & (times <= stop)
-        if inside.any():
-            out[:, inside] = sol.sol(times[inside])
-        y = sol.y[:, -1]
-        if stop < end:                                  # stuck: together at one velocity
-            after = times > stop
-            v = (M1 * y[1] + y[3]) / (M1 + rho_s * y[2])
-            out[:, after] = np.array([y[0] + v * (times[after] - stop), v + 0 * times[after],
-                                      y[2] + 0 * times[after], rho_s * y[2] * v
-                                      + 0 * times[after], *(y[4:, None] + 0 * times[after])])
-            break
-    u1, v1, L, mom, w_acc, w_fr, w_in = out
-    v2 = np.where(L > 0.0, mom / (rho_s * np.where(L > 0.0, L, 1.0)), 0.0)
-    return {"u_pipe": u1, "v_pipe": v1, "v_plug": v2, "L2_now": L, "W_accretion": w_acc,
-            "W_friction_inner": w_fr, "W_input": w_in}
+    def record(idx, ys, md, w0, u0, q):
+        for j, col in zip(idx, ys.T):
+            v2 = state_v2(col, md)
+            v1 = col[_V1] if md[0] else 0.0
+            out["v_pipe"][j] = v1
+            out["v_plug"][j] = v2 if (col[_L2] > 0.0 or (g.gripped and md[1] == 0)) else 0.0
+            out["u_pipe"][j], out["u_plug"][j], out["L2_now"][j] = col[_U1], col[_U2], col[_L2]
+            out["W_input"][j] = w0 + q * (col[_U1] - u0)
+            out["W_friction_outer"][j], out["W_friction_inner"][j] = col[_WO], col[_WI]
+            out["W_face"][j], out["W_accretion"][j] = col[_WF], col[_WA]
+            out["W_removed"][j] = w_removed
+            out["E_kinetic"][j] = 0.5 * (g.M1 * v1 * v1 + g.mu * col[_L2] * v2 * v2)
+
+    def decide(q, forced=(0, 0, 0)):
+        nonlocal mode, merged, v2_now
+        if 0.0 < y[_L2] <= _EMPTY * g.L1:
+            # A plug of a length below round-off of the pipe's is gone: its velocity (P over a
+            # vanishing mass) no longer tells a mode.
+            y[_L2], v2_now = 0.0, 0.0
+        yy = np.append(y, v2_now)
+        mode, merged = _decide(g, q, yy, forced)
+        if mode[1] == 0:
+            y[_P] = g.mu * y[_L2] * y[_V1]
+        else:
+            y[_P] = g.mu * y[_L2] * (v2_now if mode[2] else 0.0)
+
+    for ta, tb in zip(cuts[:-1], cuts[1:]):
+        q = load_at(ta)
+        if ta in cleaned and y[_L2] > g.after:
+            w_removed += 0.5 * g.mu * (y[_L2] - g.after) * v2_now ** 2
+            y[_L2] = g.after
+            if g.after == 0.0:
+                v2_now = 0.0
+        decide(q)
+        events.append((ta, f"load {q!r}: {mode}"))
+        t = ta
+        while t < tb:
+            pieces += 1
+            if pieces > max_pieces:
+                raise RuntimeError(f"more than {max_pieces} pieces")
+            if (mode[0] > 0 and mode[1] > 0 and mode[2] != 0 and y[_L2] == 0.0
+                    and y[_V1] == 0.0):
+                t, w_in, v2_now = _self_similar(g, g.system(0.0), q, y, t, w_in)
+            y0, w0 = y.copy(), w_in
+            if mode[0] == 0 and mode[1] == 0:
+                idx = np.nonzero((times >= t) & (times <= tb))[0]
+                record(idx[idx >= k], np.repeat(y0[:, None], len(idx[idx >= k]), 1), mode,
+                       w0, y0[_U1], q)
+                k = max(k, idx[-1] + 1 if len(idx) else k)
+                t = tb
+                break
+            s = g.system(0.0 if y0[_L2] <= 0.0 else y0[_L2], merged)
+            tight = atol.copy()
+            if mode[1] > 0:         # a growing plug to a share of itself (from nothing: tiny)
+                tight[_L2] = 1e-300
+                tight[_P] = 1e-3 * rtol * g.mu * max(y0[_L2], 1e-30 * g.L1) * vscale
+            sol = solve_ivp(_rhs(g, s, q, mode, y0[_U1]), (t, tb), y0, method="DOP853",
+                            events=_events(g, s, q, mode, y0, merged) or None, rtol=rtol,
+                            atol=tight, dense_output=True)
+            if sol.status < 0:
+                raise RuntimeError(sol.message)
+            fired = None
+            t_end, y_end = tb, sol.y[:, -1].copy()
+            if sol.status == 1:
+                hits = [(te[0], i) for i, te in enumerate(sol.t_events) if len(te)]
+                t_end, i = min(hits)
+                y_end = sol.y_events[i][0].copy()
+                evs = _events(g, s, q, mode, y0, merged)
+                fired = {evs[j].name for te, j in hits if te - t_end <= 1e-14 * max(t_end, 1.0)}
+            idx = np.nonzero((times >= t) & (times <= t_end))[0]
+            idx = idx[idx >= k]
+            if len(idx):
+                record(idx, sol.sol(times[idx]), mode, w0, y0[_U1], q)
+                k = idx[-1] + 1
+            w_in = w0 + q * (y_end[_U1] - y0[_U1])
+            stalled = stalled + 1 if t_end <= t else 0
+            if stalled > MAX_STALLED:
+                raise RuntimeError(f"stalled at t = {t!r}: {fired}")
+            v2_now = state_v2(y_end, mode)
+            y[:] = y_end
+            if mode[0] == 0:
+                y[_V1] = 0.0
+            t = t_end
+            if fired is None:
+                continue
+            forced = [0, 0, 0]
+            p, r, gg = mode
+            if "pipe stops" in fired:
+                y[_V1] = 0.0
+                if r == 0:
+                    v2_now = 0.0
+            if "plug stops" in fired:
+                v2_now = 0.0
+            if "plug sticks" in fired:
+                m2 = g.mu * y[_L2]
+                v2_now = y[_V1] = (g.M1 * y[_V1] + m2 * v2_now) / (g.M1 + m2) if p else 0.0
+            if "plug fills the pipe" in fired:
+                y[_L2] = g.L1
+                m2 = g.mu * g.L1
+                v = (g.M1 * y[_V1] + m2 * v2_now) / (g.M1 + m2)
+                y[_WA] += 0.5 * (g.M1 * y[_V1] ** 2 + m2 * v2_now ** 2 - (g.M1 + m2) * v * v)
+                y[_V1] = v2_now = v
+            if "plug leaves the pipe" in fired:
+                y[_L2], v2_now = 0.0, 0.0
+            if "held pipe goes" in fired:
+                forced[0] = 1 if q - r * g.k * y[_L2] > 0.0 else -1
+                forced[1], forced[2] = r, gg
+            if "held plug goes" in fired:
+                forced[2] = 1 if r * g.k * y[_L2] > 0.0 else -1
+                forced[0], forced[1] = p, r
+            if "plug breaks away ahead" in fired:
+                forced[1] = -1
+            if "plug breaks away behind" in fired:
+                forced[1] = 1
+            if "kink" in fired:
+                y[_U1] = round(y[_U1] / g.L1) * g.L1 if g.L1 else 0.0
+            if r == 0 and y[_L2] > 0.0 and "plug sticks" not in fired:
+                v2_now = y[_V1]
+            decide(q, tuple(forced))
+            events.append((t, f"{sorted(fired)}: {mode}"))
+    out["events"] = events
+    return out

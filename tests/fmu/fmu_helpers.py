@@ -33,7 +33,8 @@ CONTRACT_PARAMETERS = {
 }
 #: The contract's inputs: name -> (type, unit, variability).
 CONTRACT_INPUTS = {"Q": ("Real", "N", "continuous"), "strikes": ("Integer", None, "discrete"),
-                   "v_strike": ("Real", "m/s", "continuous")}
+                   "v_strike": ("Real", "m/s", "continuous"),
+                   "cleanouts": ("Integer", None, "discrete")}
 CONTRACT_OPTIONS = {"contact_growth": ("Boolean", "false"), "elastic": ("Boolean", "false"),
                     "solver": ("String", "exact"), "plug_growth": ("Boolean", "false")}
 #: Output name -> (type, unit), from the contract's table.

@@ -263,6 +263,45 @@ def strike_without_ram(fmu_dir, params, h):
             "again": again, "u_again": slave.get("u_pipe")}
 
 
+def cleanouts(fmu_dir, params, times, q0, t0, schedule, save_index):
+    """Step through ``times`` under a rectangular pulse with the input ``cleanouts`` set before
+    the step starting at ``schedule``'s times ({"t": count}); the status and the growing plug's
+    outputs after each step. The state after step ``save_index`` is saved, the run finished,
+    the state restored and the rest run again ("again")."""
+    slave = Slave(fmu_dir, "cleanouts")
+    if slave.start(params):
+        raise RuntimeError("initialization refused")
+    plan = {float(t): int(n) for t, n in schedule.items()}
+    names = ("v_pipe", "v_plug", "u_pipe", "u_plug", "L2_now", "W_accretion", "W_removed",
+             "W_input", "W_friction", "W_face", "E_kinetic")
+
+    def run(pairs):
+        rows = []
+        for a, b in pairs:
+            if a in plan:
+                slave.set("cleanouts", plan[a])
+            status = slave.step(a, b - a, pulse(a, q0, t0))
+            rows.append(dict(status=status, **{n: slave.get(n) for n in names}))
+        return rows
+
+    pairs = list(zip(times[:-1], times[1:]))
+    first = run(pairs[:save_index + 1])
+    snapshot = slave.fmu.getFMUstate()
+    rest = run(pairs[save_index + 1:])
+    slave.fmu.setFMUstate(snapshot)
+    again = run(pairs[save_index + 1:])
+    return {"rows": first + rest, "again": again}
+
+
+def cleanout_without_growth(fmu_dir, params, h):
+    """A rise of cleanouts without plug_growth: the status and log of that doStep(0, h)."""
+    slave = Slave(fmu_dir, "nogrowth")
+    slave.start(params)
+    slave.set("cleanouts", 1)
+    refused = slave.call("doStep", 0.0, h)
+    return {"refused": refused, "log_at_refusal": list(LOG)}
+
+
 def main() -> None:
     name, fmu_dir, kwargs = sys.argv[1], sys.argv[2], json.loads(sys.argv[3])
     if name.startswith("cosim"):

@@ -36,7 +36,7 @@ that step is not added: in a step across a reversal of the plug's front). So W_a
 decreases, and the ledger ``W_input (+ W_ram) = E_kinetic + E_strain + W_friction (+ W_cushion)
 + W_face + W_accretion + W_removed`` closes to round-off as without growth.
 
-Clean-out (:meth:`GrowthModel.cleanout`): the plug is cut to ``L2_after_cleanout`` rounded
+Clean-out (:meth:`GrowthModel.clean_out`): the plug is cut to ``L2_after_cleanout`` rounded
 down to whole cells (a length within 1e-9 of a cell's multiple counts as whole): the fraction
 leaves from the front cell (at its velocity), whole cells from the rear (the pipe's head side,
 where the spoil is taken out), and the cut face carries no force. What the scheme's energy
@@ -306,7 +306,7 @@ class GrowthModel(ElasticModel):
         return kinetic + 0.5 * extra * c[M2] * v[-1] * v[-1], strain
 
     # the input ------------------------------------------------------------------------------
-    def cleanout(self) -> None:
+    def clean_out(self) -> None:
         """Cut the plug to ``L2_after_cleanout`` rounded down to whole cells, now (module
         docstring); nothing when it is no longer."""
         acc, dx = self.acc, self.grid.coef[DX]

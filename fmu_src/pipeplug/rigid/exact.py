@@ -31,7 +31,7 @@ import math
 import numpy as np
 
 from .. import jit
-from ..interface import OUTPUT_NAMES, ModelBase, Outputs
+from ..interface import GROWTH_OUTPUTS, OUTPUT_NAMES, ModelBase, Outputs
 from ..params import ParameterError
 from . import ramstep, stepping
 from .record import (
@@ -132,8 +132,8 @@ def _rows(names) -> tuple[list[int], int]:
 
 
 _ROWS: dict[tuple, tuple[list[int], int]] = {}
-#: the outputs the solver writes (the first of :data:`OUTPUT_NAMES`); the rest are fixed
-_SOLVED = 25
+#: the outputs the solver's functions compute (the rest, GROWTH_OUTPUTS, are constants here)
+_SOLVED = OUTPUT_NAMES.index(GROWTH_OUTPUTS[0])
 
 
 class RigidExact(ModelBase):
@@ -152,11 +152,7 @@ class RigidExact(ModelBase):
     def __init__(self, params, options, compiled: bool = True):
         par = parameter_record(params, options.contact_growth)
         self.M1, self.M2 = par[P_M1], par[P_M2]     # [kg]; M2 = 0 without a plug
-        #: the outputs after the solver's 25: L2_now, W_accretion, W_removed (the plug keeps
-        #: its length)
-        # the outputs after the solved ones: W_damping (no damping here), L2_now (the plug
-        # keeps its length), W_accretion, W_removed
-        self._fixed = (0.0, float(params.L2), 0.0, 0.0)
+        self._constant = (float(params.L2), 0.0, 0.0)   # L2_now, W_accretion, W_removed
         self.has_ram = bool(params.has_ram)          #: a ram strikes the head (strike())
         fns = _kernels(compiled, self.has_ram)
         #: True when running compiled code (else the plain functions themselves)
@@ -253,14 +249,15 @@ class RigidExact(ModelBase):
             code, done = self._sample(self._st, self._par, self._log, loads, times, table, done)
         if code:
             self._raise(code)
-        return {name: table[row] if row < _SOLVED else np.full(len(times), self._fixed[row - _SOLVED])
+        return {name: table[row] if row < _SOLVED else np.full(len(times),
+                                                              self._constant[row - _SOLVED])
                 for name, row in zip(names, rows)}
 
     def outputs(self) -> Outputs:
         """The contract's outputs at the current time."""
         out = self._outputs(self._st, self._par, self._st[TIME])
         return Outputs._make((*out[:21], out[21] != 0.0, int(out[22]), int(out[23]),
-                              out[24], *self._fixed))
+                              out[24], 0.0, *self._constant))   # W_damping: 0 here
 
     def at_rest(self) -> bool:
         """Both bodies stuck with no load (and a ram off the head, not coming back): a step

@@ -61,7 +61,7 @@ class RigidFd(ModelBase):
         self.M1, self.M2, self.F2 = params.M1, params.M2, params.F2
         self.L1, self.S1 = params.L1, params.S1
         self.L2 = params.L2 if params.has_plug else 0.0
-        self._l2 = float(params.L2)      # L2_now: the plug keeps its length
+        self._l2_now = float(params.L2)              # the output L2_now: the plug never changes
         self.dt_max = params.dt
         self._max_steps = params.max_internal_steps
         self.outer = outer_contact_for(params.P1, params.L1, params.tau1, options.contact_growth,
@@ -186,7 +186,7 @@ class RigidFd(ModelBase):
                        s["W_outer"] + s["W_inner"], s["W_outer"], s["W_inner"], kinetic, 0.0,
                        s["W_num"], q, 0.0, 0.0, 0.0, s["W_in"], -q / self.S1,
                        float(low) / self.S1, float(high) / self.S1, self.at_rest(),
-                       int(s["s1"]), int(s["s2"]), s["W_face"], s["W_damp"], self._l2, 0.0,
+                       int(s["s1"]), int(s["s2"]), s["W_face"], s["W_damp"], self._l2_now, 0.0,
                        0.0)
 
     def modes(self) -> tuple[tuple[int, int], ...]:

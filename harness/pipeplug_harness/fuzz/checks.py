@@ -63,6 +63,17 @@ CHECKS: dict[str, Check] = {
                                "E_strain, W_cushion below -1e-12 of the largest work, "
                                "W_numerical != 0, W_friction > W_input + W_ram, or a "
                                "non-finite output"),
+    "growth ledger": Check(1e-10, "a growing plug: |W_input - E_kinetic - W_friction - W_face "
+                                  "- W_accretion - W_removed| and |E_kinetic - the kinetic "
+                                  "energy of the pipe and the plug of length L2_now| / largest "
+                                  "work or energy (the integrated pieces keep 1e-13 of scales "
+                                  "of the whole pipe and the largest forces per step, not of "
+                                  "the run's own work: 6e-12 seen where a blow moves the pipe "
+                                  "by 1e-4 of its length)"),
+    "growth energies": Check(0.0, "a growing plug: points with a non-finite output, a loss "
+                                  "that decreased (beyond 1e-12 of W_input), L2_now outside "
+                                  "[0, L1], a stuck pipe moving, or a stuck plug moving in "
+                                  "the pipe"),
     "ledger": Check(1.0, "model III: |W_input + W_ram - E_kinetic - E_strain - W_friction - "
                          "W_numerical - W_cushion - W_face| / ((1e-12 + 2.2e-16 n) x largest "
                          "work or energy of the run), n the internal steps so far"),

@@ -33,7 +33,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--model", choices=tuple(MODELS), default="rigid",
                         help="rigid: models I and II (exact solver, reference, fd); elastic: "
                              "model III (with rams); ram: model I with a ram (exact solver, "
-                             "reference with a ram, FMU strikes) (default: %(default)s)")
+                             "reference with a ram, FMU strikes); growth: models I and II with "
+                             "a plug that grows and clean-outs (exact solver, reference of the "
+                             "growing plug) (default: %(default)s)")
     parser.add_argument("--cases", type=int, default=1000, help="number of cases (%(default)s)")
     parser.add_argument("--seed", type=int, default=0, help="seed of the run (%(default)s)")
     parser.add_argument("--start", type=int, default=0,

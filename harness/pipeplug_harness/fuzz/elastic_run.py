@@ -78,7 +78,7 @@ def _run(case: ElasticCase, path: str, grid) -> np.ndarray:
     rows = np.empty((len(grid) - 1, len(OUTPUT_NAMES)))
     for i, (t, t_next) in enumerate(zip(grid[:-1], grid[1:])):
         if float(t) in cleanouts:
-            model.cleanout()
+            model.clean_out()
         if float(t) in strikes:
             model.strike(strikes[float(t)])
         model.advance_to(float(loads[i]), float(t_next), float(t))

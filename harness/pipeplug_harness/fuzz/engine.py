@@ -15,6 +15,8 @@ from dataclasses import dataclass
 from .cases import Plan, generate
 from .elastic_cases import generate_elastic
 from .elastic_run import run_elastic_case
+from .growth_cases import generate_growth
+from .growth_run import run_growth_case
 from .ram_cases import generate_ram
 from .ram_run import run_ram_case
 from .report import Summary, save_failure
@@ -24,7 +26,7 @@ __all__ = ["fuzz", "run_indices", "make_case", "run_one", "FuzzCampaign", "MODEL
 
 #: the fuzz's model families: --model name -> case generator and runner
 MODELS = {"rigid": (generate, run_case), "elastic": (generate_elastic, run_elastic_case),
-          "ram": (generate_ram, run_ram_case)}
+          "ram": (generate_ram, run_ram_case), "growth": (generate_growth, run_growth_case)}
 
 
 def make_case(seed: int, index: int, plan: Plan):

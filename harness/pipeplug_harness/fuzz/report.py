@@ -15,6 +15,7 @@ from pipeplug_harness.errors import UserError
 from .cases import Case, case_from_json, case_to_json
 from .checks import CHECKS
 from .elastic_cases import elastic_from_json, elastic_to_json
+from .growth_cases import growth_from_json, growth_to_json
 from .ram_cases import ram_from_json, ram_to_json
 from .run import CaseResult
 
@@ -148,5 +149,7 @@ def load_failure(path: str | Path) -> tuple[Case, dict]:
 
 
 #: case kind -> its JSON writer and reader
-_TO_JSON = {"rigid": case_to_json, "elastic": elastic_to_json, "ram": ram_to_json}
-_FROM_JSON = {"rigid": case_from_json, "elastic": elastic_from_json, "ram": ram_from_json}
+_TO_JSON = {"rigid": case_to_json, "elastic": elastic_to_json, "ram": ram_to_json,
+            "growth": growth_to_json}
+_FROM_JSON = {"rigid": case_from_json, "elastic": elastic_from_json, "ram": ram_from_json,
+              "growth": growth_from_json}

@@ -1,11 +1,11 @@
-"""The coring reference (pipeplug_references.growth_ivp) against its own conservation laws."""
+"""The coring reference (pipeplug_references.coring_ivp) against its own conservation laws."""
 from __future__ import annotations
 
 import math
 
 import numpy as np
 
-from pipeplug_references.growth_ivp import simulate_coring
+from pipeplug_references.coring_ivp import simulate_coring
 
 PIPE = dict(L1=2.0, L2=0.0, R1=0.1, h1=0.01, rho1=7800.0, rho2=1800.0, tau2=5e3)
 

@@ -1,0 +1,210 @@
+"""A plug that grows and clean-outs in the rigid models: the exact solver against the independent
+ODE reference (pipeplug_references.growth_ivp), closed forms derived here, the ledger, the
+order of the integrated piece, refusals; with plug_growth off nothing changes."""
+import math
+
+import numpy as np
+import pytest
+
+from pipeplug import ParameterError, Params, build_model
+from pipeplug.interface import ledger_residual
+from pipeplug.rigid import coring
+from pipeplug_references.growth_ivp import simulate_growth
+
+GROW = {"plug_growth": True}
+BASE = {"tau1": 1e4, "tau2": 1e4, "L1": 3.0}
+
+
+def _drive(model, segments, times, cleanouts=()):
+    """Outputs at ``times`` under ``segments`` [(duration, Q)], clean-outs at ``cleanouts``."""
+    edges, t = [], 0.0
+    for duration, q in segments:
+        edges.append((t, t + duration, q))
+        t += duration
+    marks = sorted({*map(float, times), *(e for a, b, _ in edges for e in (a, b)),
+                    *cleanouts} - {0.0})
+    rows = []
+    for t_next in marks:
+        if t_next > times[-1]:
+            break
+        if model.time in cleanouts:
+            model.clean_out()
+        t_mid = 0.5 * (model.time + t_next)
+        q = sum(q for a, b, q in edges if a <= t_mid < b)
+        model.advance_to(q, t_next)
+        if t_next in times:
+            rows.append(model.outputs())
+    return {name: np.array([getattr(r, name) for r in rows]) for name in rows[0]._fields}
+
+
+CASES = {
+    "coring from nothing": (dict(BASE, L2=0.0), [(0.01, 23e3)], False, ()),
+    "held by its face, model II": (dict(BASE, L2=0.0, q_plug_face=2e5), [(0.01, 23e3)], True,
+                                   ()),
+    "fills the pipe": (dict(BASE, L2=2.5), [(0.05, 23e3)], False, ()),
+    "clean-outs, end resistance": (dict(BASE, L2=1.0, q_face=1e6, L2_after_cleanout=0.2),
+                                   [(0.01, 23e3), (0.02, 0.0), (0.01, 23e3)], False, (0.015,)),
+}
+
+
+@pytest.mark.parametrize("name", CASES)
+def test_exact_solver_agrees_with_the_reference(name):
+    params, segments, growth, cleanouts = CASES[name]
+    times = np.linspace(0.005, 0.2, 40)
+    ref = simulate_growth(params, segments, times, growth, cleanouts=cleanouts)
+    model = build_model(params, {**GROW, "contact_growth": growth})
+    out = _drive(model, segments, times, cleanouts)
+    v = max(np.abs(ref["v_pipe"]).max(), np.abs(ref["v_plug"]).max())
+    w = ref["W_input"].max()
+    for key in ("v_pipe", "v_plug"):
+        assert np.abs(out[key] - ref[key]).max() <= 1e-10 * v, key
+    for key in ("u_pipe", "u_plug", "L2_now"):
+        assert np.abs(out[key] - ref[key]).max() <= 1e-10 * params["L1"], key
+    for key in ("W_input", "W_friction_outer", "W_friction_inner", "W_face", "W_accretion",
+                "W_removed", "E_kinetic"):
+        assert np.abs(out[key] - ref[key]).max() <= 1e-10 * w, key
+    assert np.all(np.abs([ledger_residual(dict(zip(out, col))) for col in zip(*out.values())])
+                  <= 1e-12 * w)
+    assert np.all(np.diff(out["W_accretion"]) >= 0.0) and out["W_accretion"][-1] > 0.0
+
+
+def test_a_full_plug_moves_with_the_pipe_as_one_body():
+    # L2 = L1: no soil can enter; pushed from rest, pipe and plug accelerate as one body of
+    # M1 + M2 against the shaft, the annulus and the plug's face (model I, by hand).
+    p = Params(**dict(BASE, L2=3.0, q_face=1e6, q_plug_face=1e5))
+    q = 60e3
+    model = build_model(p, GROW)
+    model.advance(q, 0.004)
+    out = model.outputs()
+    a = (q - p.F1 - p.F_face - p.F_plug_face) / (p.M1 + p.M2)
+    assert out.v_pipe == pytest.approx(a * 0.004, rel=1e-13)
+    assert out.v_plug == out.v_pipe and out.L2_now == 3.0 and out.W_accretion == 0.0
+    assert out.W_face == pytest.approx((p.F_face + p.F_plug_face) * 0.5 * a * 0.004 ** 2,
+                                       rel=1e-12)
+
+
+def test_filling_the_pipe_is_a_plastic_impact():
+    # The plug reaching the head: momentum kept, the loss in W_accretion (ledger closes).
+    model = build_model(dict(BASE, L2=2.9, tau2=2e3), GROW)
+    before = None
+    for k in range(1, 400):
+        model.advance_to(30e3, k * 1e-4)
+        out = model.outputs()
+        if out.L2_now == 3.0:
+            break
+        before = out
+    assert out.L2_now == 3.0 and before.L2_now < 3.0
+    assert out.v_pipe == out.v_plug
+    assert abs(ledger_residual(out)) <= 1e-12 * out.W_input
+
+
+def test_a_pipe_held_while_the_plug_slides_ahead():
+    # The pipe stops hard (tau1 large) and the plug slides ahead, out through the front end:
+    # the soil leaving carries its own momentum, so V2' = -k/mu = -2 tau2/(rho2 R1) exactly,
+    # whatever the plug's length; L2 shrinks by the relative advance.
+    p = Params(**dict(BASE, tau1=6e4, L2=1.0))
+    model = build_model(p, GROW)
+    model.advance(60e3, 0.002)
+    rows = []
+    for _ in range(2000):
+        model.advance(0.0, 2e-5)
+        out = model.outputs()
+        if out.pipe_mode == 0 and out.plug_mode == -1:
+            rows.append((model.time, out.v_plug, out.L2_now, out.u_plug, out.u_pipe))
+        elif rows:
+            break
+    t, v2, l2, u2, u1 = np.array(rows).T
+    assert len(t) > 10 and np.all(np.diff(l2) < 0.0)
+    slope = np.diff(v2) / np.diff(t)
+    assert np.allclose(slope, -2.0 * p.tau2 / (p.rho2 * p.R1), rtol=1e-9)
+    assert np.allclose(l2 - l2[0], (u1 - u2) - (u1[0] - u2[0]), rtol=0, atol=1e-12)
+
+
+def test_clean_out_books_the_removed_kinetic_energy():
+    model = build_model(dict(BASE, L2=1.0, L2_after_cleanout=0.25), GROW)
+    model.advance(23e3, 0.004)
+    out = model.outputs()
+    model.clean_out()
+    after = model.outputs()
+    removed = 0.5 * model._mu * (out.L2_now - 0.25) * out.v_plug ** 2
+    assert after.L2_now == 0.25 and after.W_removed == pytest.approx(removed, rel=1e-14)
+    assert out.E_kinetic - after.E_kinetic == pytest.approx(removed, rel=1e-12)
+    model.advance(23e3, 0.004)
+    assert abs(ledger_residual(model.outputs())) <= 1e-12 * model.outputs().W_input
+
+
+def test_outputs_do_not_depend_on_the_host_grid():
+    one = build_model(dict(BASE, L2=0.0), GROW)
+    many = build_model(dict(BASE, L2=0.0), GROW)
+    one.advance_to(23e3, 0.0123)
+    for k in range(1, 8):
+        many.advance_to(23e3, 0.0123 * k / 7)
+    assert one.outputs() == many.outputs()
+
+
+def _held_slide(q=30e3):
+    """A slide with the plug held by its face (P = 0): the pipe's motion is harmonic,
+    M1 U1'' = Q - F - k (L0 + U1), with the closed form below."""
+    c = {"m1": 5.0, "mu": 7.0, "k": 2e4, "L1": 3.0, "qp": 1e9, "face1": 0.0, "force0": -1e3,
+         "kappa": 0.0, "end": math.inf, "t1p": 1e3, "t1m": 1e3}
+    y0 = [0.0, 2.0, 0.0, 0.0, 0.5, 0.0, 0.0, 0.0, 0.0]
+    slide = coring.Slide(0.0, y0, 0.0, (1, 1, 0), q, c)
+    w = math.sqrt(c["k"] / c["m1"])
+    rest = (q + c["force0"] - c["k"] * 0.5) / c["k"]
+
+    def exact(t):
+        return rest * (1.0 - math.cos(w * t)) + 2.0 / w * math.sin(w * t)
+    return slide, exact
+
+
+def test_the_integrated_piece_is_of_order_5():
+    slide, exact = _held_slide()
+    errors = []
+    for n in (20, 40, 80):
+        y, h = list(slide.node_y), 0.02 / n
+        for _ in range(n):
+            y = coring.step(slide.rate, y, h)
+        errors.append(abs(y[0] - exact(0.02)))
+    orders = [math.log2(a / b) for a, b in zip(errors, errors[1:])]
+    assert all(abs(o - coring.ORDER) < 0.3 for o in orders), orders
+
+
+def test_without_plug_growth_nothing_changes():
+    for options in ({}, {"solver": "fd"}, {"elastic": True}):
+        a = build_model({"tau1": 2e4}, options)
+        b = build_model({"tau1": 2e4, "L2_after_cleanout": 0.5}, {**options,
+                                                                   "plug_growth": False})
+        for m in (a, b):
+            m.advance(23e3, 2e-3)
+        assert a.outputs() == b.outputs()
+        assert (a.outputs().L2_now, a.outputs().W_accretion, a.outputs().W_removed) == (
+            1.0, 0.0, 0.0)
+        with pytest.raises(ParameterError, match="cleanouts"):
+            a.clean_out()
+
+
+@pytest.mark.parametrize("params, options", [
+    ({}, {"solver": "fd"}), ({"ram_mass": 10.0}, {}), ({"tau2": 0.0}, {})])
+def test_models_without_a_growing_plug_refuse_it(params, options):
+    """The paper's fd scheme, a rigid ram, a frictionless plug (model III carries it:
+    tests/core/elastic/test_elastic_growth.py)."""
+    with pytest.raises(ParameterError, match="plug_growth"):
+        build_model(params, {**options, **GROW})
+
+
+def test_a_cleanout_length_outside_the_pipe_is_refused():
+    with pytest.raises(ParameterError, match="L2_after_cleanout"):
+        build_model({"L2_after_cleanout": 1.5})
+    with pytest.raises(ParameterError, match="L2_after_cleanout"):
+        build_model({"L2_after_cleanout": -0.1}, GROW)
+
+
+def test_state_round_trip_mid_slide():
+    model = build_model(dict(BASE, L2=0.0), GROW)
+    model.advance(23e3, 0.003)
+    state = model.get_state()
+    model.advance(23e3, 0.004)
+    expected = model.outputs()
+    model.set_state(state)
+    model.advance(23e3, 0.004)
+    assert model.outputs() == expected
