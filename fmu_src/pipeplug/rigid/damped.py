@@ -183,7 +183,8 @@ class RigidDamped(ModelBase):
         """The first event within ``horizon`` [s] after the origin and its labels."""
         if self.kind == REST:
             return math.inf, 0
-        times = [(self.piece.first_zero(a, b, horizon), label) for a, b, label in self._affine]
+        times = [(self.piece.first_zero(a, b, horizon, label >= PIPE_FWD), label)
+                 for a, b, label in self._affine]
         t = min(x for x, _ in times)
         if t == math.inf:
             return t, 0

@@ -142,23 +142,28 @@ class LinearPiece:
         kq = [-sum(w[i] * self.c[i][j] for i in range(self.n)) for j in range(self.n)]
         return c0, kq
 
-    def first_zero(self, a: float, b, horizon: float) -> float:
+    def first_zero(self, a: float, b, horizon: float, limit: bool = False) -> float:
         """:func:`first_zero` of ``A + sum B_i E(mu_i, t)`` in this piece."""
-        return first_zero(a, b, self.mu, horizon)
+        return first_zero(a, b, self.mu, horizon, limit)
 
 
 def _h(a, b, mu, t):
     return a + sum(bi * _e(mi, t) for bi, mi in zip(b, mu))
 
 
-def first_zero(a: float, b, mu, horizon: float) -> float:
+def first_zero(a: float, b, mu, horizon: float, limit: bool = False) -> float:
     """The first time in [0, horizon] [s] at which ``h(t) = a + sum_i b_i E(mu_i, t)`` (positive
     where the piece is consistent) is <= 0, or ``inf``.
 
     ``h' = sum_i b_i exp(-mu_i t)`` changes sign at most once, at ``t*`` (closed form), so
     ``h`` is monotone on [0, t*] and [t*, horizon]; a part that ends <= 0 while it starts > 0
     is bisected to the first float at which ``h <= 0``. A start at ``h(0) <= 0`` with ``h``
-    not growing is an event at once (a limit reached exactly at the piece's start).
+    falling is an event at once (a limit reached exactly at the piece's start), and so is a
+    constant ``h <= 0`` of a velocity (a body at rest with nothing to move it). A ``limit``
+    (``h`` the margin of a static force to its limit) that is constant is no event: the modes
+    were just decided with that force held (stuck first, within round-off of the limit), and
+    a force that stays where it is does not break loose (a load exactly at a limit does not
+    move a body).
     """
     cuts = [0.0]
     if len(b) == 2 and b[0] * b[1] < 0.0 and mu[0] != mu[1]:
@@ -178,7 +183,7 @@ def first_zero(a: float, b, mu, horizon: float) -> float:
                 # first part goes the other way: round-off of the start, not an event (the
                 # modes made it slide this way); the next part grows.
                 continue
-            if slope < 0.0 or (slope == 0.0 and h_hi <= 0.0):
+            if slope < 0.0 or (slope == 0.0 and h_hi <= 0.0 and not limit):
                 return lo
             continue                      # growing from <= 0: consistent (a start from rest)
         if h_hi > 0.0:

@@ -156,3 +156,27 @@ def test_refusals_name_the_parameter_and_the_combination(params, options, words)
         build_model(dict(params, L1=1.0, dx=0.01), options)
     assert refusal.value.name in ("J_shaft", "J_face")
     assert words in str(refusal.value)
+
+
+def test_a_pipe_held_exactly_at_its_limit_under_a_sliding_plug_stays_held():
+    # No shaft friction: the annulus' end resistance Qf holds the pipe forward, nothing holds
+    # it backward. Pipe and plug driven back, then the load Qf + F2 (exactly the limit of a
+    # held pipe under a plug sliding back in it): the pipe stops and stays held (stuck first)
+    # while the plug slides to a stick; its margin to the limit is a constant 0 (no damper
+    # acts on it), no breakaway. Modes and events from the reference.
+    tau2, L2, q_face = 3.3e4, 0.9, 3.3e7
+    F2, Qf = 2 * math.pi * R1 * L2 * tau2, q_face * S1
+    params = dict(tau1=0.0, tau2=tau2, L2=L2, q_face=q_face, J_face=0.02)
+    segments = [(0.05, -27000.0), (0.15, Qf + F2)]
+    times = np.linspace(0.0, 0.2, 201)[1:]
+    ref = simulate_damped(params, segments, times, False)
+    stops = [t for t, what in ref["events"] if what.startswith("pipe stops: (0, 1")]
+    sticks = [t for t, what in ref["events"] if what.startswith("plug sticks") and t > stops[0]]
+    model = build_model(params)
+    out = model.sample(np.where(times <= 0.05, -27000.0, Qf + F2), times)
+    assert model.modes() == ((-1, -1), (-1, 1), (0, 1), (1, 0))
+    held = (times > stops[0]) & (times < sticks[0])
+    assert np.count_nonzero(held) > 40
+    assert np.all(out["v_pipe"][held] == 0.0) and np.all(out["pipe_mode"][held] == 0)
+    scale = np.max(np.abs(ref["v_plug"]))
+    assert np.max(np.abs(out["v_plug"] - ref["v_plug"])) <= 1e-12 * scale
