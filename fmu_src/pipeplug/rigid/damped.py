@@ -135,6 +135,7 @@ class RigidDamped(ModelBase):
         a3 = self.a3 if s3 > 0 else 0.0
         d2, F2 = self.d2, self.F2
         self._events = events = []        # (h0, k over the piece's velocities, label)
+        self._first = None
         if s1 == 0 and s2 == 0:
             self.kind, self.body, self.piece = REST, ((0.0, 0.0),), None
             return
@@ -179,11 +180,17 @@ class RigidDamped(ModelBase):
         return tuple(sum(b * x for b, x in zip(row, values)) for row in self.body)
 
     # -- events -------------------------------------------------------------------------------
-    def _next_event(self, horizon: float) -> tuple[float, int]:
-        """The first event within ``horizon`` [s] after the origin and its labels."""
+    def _next_event(self) -> tuple[float, int]:
+        """The piece's first event after its origin [s] and its labels (searched once, with no
+        horizon: the event does not depend on how far the host looks)."""
+        if self._first is None:
+            self._first = self._search()
+        return self._first
+
+    def _search(self) -> tuple[float, int]:
         if self.kind == REST:
             return math.inf, 0
-        times = [(self.piece.first_zero(a, b, horizon, label >= PIPE_FWD), label)
+        times = [(self.piece.first_zero(a, b, math.inf, label >= PIPE_FWD), label)
                  for a, b, label in self._affine]
         t = min(x for x, _ in times)
         if t == math.inf:
@@ -267,7 +274,7 @@ class RigidDamped(ModelBase):
             horizon = t_end - o["t0"]
             if horizon <= self._searched:
                 break
-            dt, labels = self._next_event(horizon)
+            dt, labels = self._next_event()
             if dt == math.inf or o["t0"] + dt > t_end:
                 self._searched = horizon
                 break

@@ -180,3 +180,27 @@ def test_a_pipe_held_exactly_at_its_limit_under_a_sliding_plug_stays_held():
     assert np.all(out["v_pipe"][held] == 0.0) and np.all(out["pipe_mode"][held] == 0)
     scale = np.max(np.abs(ref["v_plug"]))
     assert np.max(np.abs(out["v_plug"] - ref["v_plug"])) <= 1e-12 * scale
+
+
+def test_a_velocity_decaying_to_zero_is_the_same_on_every_grid_and_its_works_never_fall():
+    # Pushed, then held at exactly its friction limit (Q = T1): M v' = -c v, v0 exp(-c t / M),
+    # zero only in the limit. Where it has decayed to round-off, whether it has stopped is
+    # round-off too, but the same on every host's grid, and no work decreases.
+    tau1, j = 2e4, 0.5
+    t1 = P1 * L1 * tau1
+    params = {"tau1": tau1, "tau2": 0.0, "J_shaft": j}
+    end = T0 + 200 * M1 / (j * t1)                 # 200 time constants: v0 exp(-200)
+    coarse = np.array([T0, end])
+    fine = np.concatenate([np.linspace(0.001, T0, 50), np.linspace(T0, end, 2001)[1:]])
+    outs = []
+    for times in (coarse, fine):
+        model = build_model(params)
+        outs.append(model.sample(np.where(times <= T0, Q, t1), times))
+    for name in outs[0]:
+        assert outs[0][name][-1] == outs[1][name][-1], name
+    v0 = _sliding_pipe(T0, tau1, j)[0]
+    after = fine > T0
+    decay = v0 * np.exp(-j * t1 / M1 * (fine[after] - T0))
+    assert np.max(np.abs(outs[1]["v_pipe"][after] - decay)) <= 1e-13 * v0
+    for name in ("W_friction", "W_damping"):
+        assert np.all(np.diff(outs[1][name]) >= 0.0), name
