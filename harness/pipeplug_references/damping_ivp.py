@@ -24,10 +24,11 @@ integrated in its own right. Two things the dampers bring to an explicit integra
   and more); DOP853 then steps at its stability limit, where the step's ends are accurate but
   its dense output is not (1e-7 of scale between the ends, measured). Each piece's step is
   capped at ``MAX_STEP_RATE`` over the largest rate of its modes (the trace of ``M^-1 C``, a
-  bound of the largest eigenvalue), where the dense output is as accurate as the ends. Terminal events: a sliding contact's
-velocity reaching zero, and every static force reaching its limit (the damping forces vary, so
-a held pipe under a sliding plug, a carried plug and a plug held by its face can break loose
-inside a piece), model II's kinks. Modes are decided at every event by enumerating candidates,
+  bound of the largest eigenvalue), where the dense output is as accurate as the ends.
+
+Terminal events: a sliding contact's velocity reaching zero, and every static force reaching
+its limit (the damping forces vary, so a held pipe under a sliding plug, a carried plug and a
+plug held by its face can break loose inside a piece), model II's kinks. Modes are decided at every event by enumerating candidates,
 stuck first, each accepted when its static forces lie in their windows and its starting
 accelerations have the sliding signs; the damping forces at the decision are those of the
 current velocities (a contact starting to slide has none). The contact that reached its limit
