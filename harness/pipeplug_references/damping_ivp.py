@@ -29,10 +29,10 @@ integrated in its own right. Two things the dampers bring to an explicit integra
 Terminal events: a sliding contact's velocity reaching zero, and every static force reaching
 its limit (the damping forces vary, so a held pipe under a sliding plug, a carried plug and a
 plug held by its face can break loose inside a piece), model II's kinks. Modes are decided at
-every event by enumerating candidates, stuck first, each accepted when its static forces lie in their windows and its starting
-accelerations have the sliding signs; the damping forces at the decision are those of the
-current velocities (a contact starting to slide has none). The contact that reached its limit
-is made to slide at the event.
+every event by enumerating candidates, stuck first, each accepted when its static forces lie
+in their windows and its starting accelerations have the sliding signs; the damping forces at
+the decision are those of the current velocities (a contact starting to slide has none). The
+contact that reached its limit is made to slide at the event.
 
 Independence: numpy and scipy only, nothing of the project's core.
 """
