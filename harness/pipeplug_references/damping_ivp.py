@@ -307,6 +307,7 @@ def simulate_damped(params: dict, segments: list, times, contact_growth: bool, *
     t = 0.0
     for ta, tb, q in intervals:
         t = ta
+        y[_W] = y[1] - y[3]
         mode = _decide(s, q, y, (0, 0, 0))
         events.append((t, f"load {q:.17g} N: {mode}"))
         while t < tb:
@@ -354,7 +355,6 @@ def simulate_damped(params: dict, segments: list, times, contact_growth: bool, *
             if fired is None:
                 continue
             p, r, g = mode
-            v_end = (y[1], y[3])
             if fired == "pipe stops":
                 y[1] = 0.0
                 if r == 0 and s.plug:
@@ -374,8 +374,9 @@ def simulate_damped(params: dict, segments: list, times, contact_growth: bool, *
                 y[3] = y[1]
             if s.plug and mode[2] == 0 and mode[1] != 0:
                 y[3] = 0.0
-            if (y[1], y[3]) != v_end or fired == "plug sticks":   # the sliding speed follows
-                y[_W] = y[1] - y[3]
+            # at an event the sliding speed follows the velocities just set (inside a piece it
+            # is integrated from there in its own right)
+            y[_W] = y[1] - y[3]
             mode = _decide(s, q, y, _FORCED.get(fired, (0, 0, 0)))
             events.append((t, f"{fired}: {mode}"))
     if k < n:

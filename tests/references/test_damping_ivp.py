@@ -91,3 +91,32 @@ def test_a_stiff_coupled_piece_is_accurate_between_the_integrators_steps():
     scale = np.max(np.abs(exact))
     assert np.max(np.abs(ref["v_pipe"] - exact[:, 0])) <= 1e-12 * scale
     assert np.max(np.abs(ref["v_plug"] - exact[:, 1])) <= 1e-12 * scale
+
+
+def test_a_pipe_coring_a_held_plug_stops_where_the_closed_form_says():
+    # The plug held by its face (Qp > F2) while the pipe slides over it: M1 v' = Q - T1 - Qf -
+    # F2 - c v (c = J_face Qf), then -(T1 + Qf + F2) - c v to its stop; then all at rest.
+    # (a case whose stop the integrator hits at exactly U1' = 0: the sliding speed integrated
+    # beside it then kept a round-off of its own, and no mode was consistent)
+    tau1, tau2, L2 = 1463.9469055238735, 18699.942956213617, 0.7424860623396188
+    q_face, q_plug, j_face = 520780.67886684294, 4144054.1498948266, 0.09269895146041544
+    Q, t0 = 34060.261700845265, 0.0754180835858043
+    P1 = 2 * math.pi * (R1 + H1)
+    T1, F2, Qf = P1 * L1 * tau1, P2 * L2 * tau2, q_face * S1
+    assert q_plug * S2 > F2
+    c = j_face * Qf
+    push = _exponential(0.0, Q - T1 - Qf - F2, c, M1)
+    v0 = push(t0)[0]
+    t_stop = math.log(1 + c * v0 / (T1 + Qf + F2)) * M1 / c
+    params = dict(tau1=tau1, tau2=tau2, L2=L2, q_face=q_face, q_plug_face=q_plug,
+                  J_face=j_face)
+    times = t0 * np.arange(1, 41) / 10.0
+    assert times[-1] > t0 + t_stop
+    ref = simulate_damped(params, [(t0, Q)], times, False, max_events=1000)
+    stops = [t for t, what in ref["events"] if what.startswith("pipe stops")]
+    assert len(stops) == 1 and abs(stops[0] - (t0 + t_stop)) <= 1e-12 * t0
+    brake = _exponential(v0, -(T1 + Qf + F2), c, M1)
+    v = [push(t)[0] if t <= t0 else (brake(t - t0)[0] if t < t0 + t_stop else 0.0)
+         for t in times]
+    np.testing.assert_allclose(ref["v_pipe"], v, rtol=0, atol=1e-12 * v0)
+    assert np.all(ref["v_plug"] == 0.0)
