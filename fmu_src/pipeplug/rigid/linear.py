@@ -61,8 +61,9 @@ def psi(x: float) -> float:
 
 
 def _e(mu: float, t: float) -> float:
-    """E(mu, t) = (1 - exp(-mu t)) / mu [s]."""
-    return t * phi1(mu * t)
+    """E(mu, t) = (1 - exp(-mu t)) / mu [s], never decreasing in t to the last bit (each step
+    of ``-expm1(-mu t) / mu`` is; ``t phi1(mu t)`` wanders by an ulp where it is flat)."""
+    return -math.expm1(-mu * t) / mu if mu > 0.0 else t
 
 
 class LinearPiece:
@@ -119,6 +120,8 @@ class LinearPiece:
         if mu <= 0.0:
             return None
         z_inf = z0 + self.d[i] / mu
+        if abs(z_inf) <= 1e-15 * abs(z0):
+            return 0.0                    # a load at the friction limit, to round-off
         return z_inf if z0 * z_inf >= 0.0 and abs(z_inf) <= abs(z0) else None
 
     def displacement(self, t: float) -> list:

@@ -229,3 +229,19 @@ def test_a_stick_closed_by_round_off_conserves_momentum():
             largest = max(largest, out.W_input)
         t += duration
     assert worst <= 1e-14 * largest
+
+
+def test_a_decayed_piece_never_gives_back_work():
+    # M v' = -c v: W_damping = c int v^2 = M v0^2 (1 - exp(-2 c t / M)) / 2 grows (to the last
+    # bit) also where it has flattened out; so does the displacement (fuzz 2026:2078).
+    from pipeplug.rigid.linear import LinearPiece
+
+    m = 5.36646857086209
+    c, v0 = 3013.4449519802 * m, -1.2165327109940056 / math.sqrt(m)
+    piece = LinearPiece([m], [[c]], [0.0], [v0])
+    t = np.linspace(0.005, 0.01, 2001)                # c t / m from 15 to 30: flat
+    work = np.array([piece.dissipation(s) for s in t])
+    travel = np.array([piece.displacement(s)[0] for s in t])
+    assert np.all(np.diff(work) >= 0.0) and np.all(np.diff(travel) <= 0.0)
+    exact = 0.5 * m * v0 ** 2 * -np.expm1(-2 * c / m * t)
+    assert np.max(np.abs(work - exact)) <= 1e-15 * exact[-1]
