@@ -61,8 +61,9 @@ def psi(x: float) -> float:
 
 
 def _e(mu: float, t: float) -> float:
-    """E(mu, t) = (1 - exp(-mu t)) / mu [s]."""
-    return t * phi1(mu * t)
+    """E(mu, t) = (1 - exp(-mu t)) / mu [s], never decreasing in t to the last bit (each step
+    of ``-expm1(-mu t) / mu`` is; ``t phi1(mu t)`` wanders by an ulp where it is flat)."""
+    return -math.expm1(-mu * t) / mu if mu > 0.0 else t
 
 
 class LinearPiece:
@@ -112,18 +113,48 @@ class LinearPiece:
         """q(t) [m/s]."""
         return self._back([self.z0[i] + self.d[i] * _e(self.mu[i], t) for i in range(self.n)])
 
+    def _settling(self, i: int):
+        """The steady value ``z_inf = beta_i / mu_i`` of a mode that settles towards it from
+        the same side of 0 (``|z_inf| <= |z0|``, no sign change), else None."""
+        mu, z0 = self.mu[i], self.z0[i]
+        if mu <= 0.0:
+            return None
+        z_inf = z0 + self.d[i] / mu
+        if abs(z_inf) <= 1e-15 * abs(z0):
+            return 0.0                    # a load at the friction limit, to round-off
+        return z_inf if z0 * z_inf >= 0.0 and abs(z_inf) <= abs(z0) else None
+
     def displacement(self, t: float) -> list:
-        """int_0^t q [m], from the modes (never a difference of positions)."""
-        return self._back([self.z0[i] * t + self.d[i] * t * t * phi2(self.mu[i] * t)
-                           for i in range(self.n)])
+        """int_0^t q [m], from the modes (never a difference of positions).
+
+        A mode that settles (:meth:`_settling`) is ``z_inf t + (z0 - z_inf) E(mu, t)``: two
+        terms that grow the same way, so the displacement is monotone to the last bit where
+        the velocity has decayed to round-off (``z0 t + d t^2 phi2`` there cancels two large
+        terms and wanders, and a friction work would decrease by round-off)."""
+        modes = []
+        for i in range(self.n):
+            z_inf = self._settling(i)
+            if z_inf is None:
+                modes.append(self.z0[i] * t + self.d[i] * t * t * phi2(self.mu[i] * t))
+            else:
+                modes.append(z_inf * t + (self.z0[i] - z_inf) * _e(self.mu[i], t))
+        return self._back(modes)
 
     def dissipation(self, t: float) -> float:
-        """int_0^t q^T C q [J], >= 0."""
+        """int_0^t q^T C q [J], >= 0 (a settling mode as a sum of terms that never decrease,
+        as in :meth:`displacement`)."""
         total = 0.0
-        for mu, z0, d in zip(self.mu, self.z0, self.d):
+        for i, (mu, z0, d) in enumerate(zip(self.mu, self.z0, self.d)):
             if mu > 0.0:
-                x = mu * t
-                total += mu * t * (z0 * z0 + 2.0 * z0 * d * t * phi2(x) + d * d * t * t * psi(x))
+                z_inf = self._settling(i)
+                if z_inf is None:
+                    x = mu * t
+                    total += mu * t * (z0 * z0 + 2.0 * z0 * d * t * phi2(x)
+                                       + d * d * t * t * psi(x))
+                else:
+                    r = z0 - z_inf
+                    total += mu * (z_inf * z_inf * t + 2.0 * z_inf * r * _e(mu, t)
+                                   + r * r * _e(2.0 * mu, t))
         return max(total, 0.0)
 
     def affine(self, h0: float, k) -> tuple:
@@ -142,23 +173,55 @@ class LinearPiece:
         kq = [-sum(w[i] * self.c[i][j] for i in range(self.n)) for j in range(self.n)]
         return c0, kq
 
-    def first_zero(self, a: float, b, horizon: float) -> float:
+    def first_zero(self, a: float, b, horizon: float, limit: bool = False) -> float:
         """:func:`first_zero` of ``A + sum B_i E(mu_i, t)`` in this piece."""
-        return first_zero(a, b, self.mu, horizon)
+        return first_zero(a, b, self.mu, horizon, limit)
 
 
 def _h(a, b, mu, t):
     return a + sum(bi * _e(mi, t) for bi, mi in zip(b, mu))
 
 
-def first_zero(a: float, b, mu, horizon: float) -> float:
+#: the unbounded last part is searched at t = lo + 2^k _FIRST up to _LAST [s]
+_FIRST, _LAST = 2.0 ** -40, 2.0 ** 40
+
+
+def _end_of_part(a, b, mu, lo: float) -> float:
+    """A finite end for the part ``[lo, inf)``: ``_LAST`` where ``h`` cannot reach 0 (it grows,
+    or falls towards a limit clearly above 0), else the first ``lo + 2^k _FIRST`` at which
+    ``h <= 0``. The points do not depend on any horizon, so neither does the zero found."""
+    slowest = min(mu) if b else 0.0
+    slope = sum(bi for bi, mi in zip(b, mu) if mi == slowest)
+    if slope >= 0.0 and _h(a, b, mu, lo) > 0.0:
+        return _LAST
+    if all(mi > 0.0 for mi in mu):
+        limit = a + sum(bi / mi for bi, mi in zip(b, mu))
+        if limit > 1e-12 * (abs(a) + sum(abs(bi / mi) for bi, mi in zip(b, mu))):
+            return _LAST
+    step = _FIRST
+    while lo + step < _LAST:
+        if _h(a, b, mu, lo + step) <= 0.0:
+            return lo + step
+        step *= 2.0
+    return _LAST
+
+
+def first_zero(a: float, b, mu, horizon: float, limit: bool = False) -> float:
     """The first time in [0, horizon] [s] at which ``h(t) = a + sum_i b_i E(mu_i, t)`` (positive
     where the piece is consistent) is <= 0, or ``inf``.
 
     ``h' = sum_i b_i exp(-mu_i t)`` changes sign at most once, at ``t*`` (closed form), so
     ``h`` is monotone on [0, t*] and [t*, horizon]; a part that ends <= 0 while it starts > 0
-    is bisected to the first float at which ``h <= 0``. A start at ``h(0) <= 0`` with ``h``
-    not growing is an event at once (a limit reached exactly at the piece's start).
+    is bisected to the first float at which ``h <= 0``. With ``horizon = inf`` the result
+    depends on the piece alone (:func:`_end_of_part`): where ``h`` only falls towards 0 (a
+    velocity decaying to exactly 0) its sign is round-off, and a search that looked as far as
+    the host's next point would find that round-off where another host's would not. A start at ``h(0) <= 0`` with ``h``
+    falling is an event at once (a limit reached exactly at the piece's start), and so is a
+    constant ``h <= 0`` of a velocity (a body at rest with nothing to move it). A ``limit``
+    (``h`` the margin of a static force to its limit) that is constant is no event: the modes
+    were just decided with that force held (stuck first, within round-off of the limit), and
+    a force that stays where it is does not break loose (a load exactly at a limit does not
+    move a body).
     """
     cuts = [0.0]
     if len(b) == 2 and b[0] * b[1] < 0.0 and mu[0] != mu[1]:
@@ -168,6 +231,8 @@ def first_zero(a: float, b, mu, horizon: float) -> float:
             cuts.append(t_star)
     cuts.append(horizon)
     for lo, hi in zip(cuts[:-1], cuts[1:]):
+        if hi == math.inf:
+            hi = _end_of_part(a, b, mu, lo)
         h_lo, h_hi = _h(a, b, mu, lo), _h(a, b, mu, hi)
         if h_lo <= 0.0:
             # the part's direction, from inside it (at its start h' may be 0 to round-off)
@@ -178,7 +243,7 @@ def first_zero(a: float, b, mu, horizon: float) -> float:
                 # first part goes the other way: round-off of the start, not an event (the
                 # modes made it slide this way); the next part grows.
                 continue
-            if slope < 0.0 or (slope == 0.0 and h_hi <= 0.0):
+            if slope < 0.0 or (slope == 0.0 and h_hi <= 0.0 and not limit):
                 return lo
             continue                      # growing from <= 0: consistent (a start from rest)
         if h_hi > 0.0:

@@ -24,6 +24,14 @@ Domains drawn (SI units):
   is 0-1.3 times ``max|Q|``; ``q_plug_face`` 0 (half) or ``Qp = q_plug_face S2`` 0.1-10 times
   the plug's limit ``F2`` (log-uniform: a plug held by its face, coring, or carried); a quarter
   of the loads then moved exactly to a limit of the window: +-(F1 + Qf), F1 + Qf + min(F2, Qp).
+* Smith damping (a stream of its own, ``spawn_key=(index, 2)``; model I only: the exact
+  solver refuses damping with contact growth): a third of the model I cases draw ``J_shaft``
+  and ``J_face`` [s/m], each 0 (a quarter), 0.01-1 s/m (log-uniform), or, one draw in ten,
+  1-100 s/m; never both 0. A damped case is compared with the reference only where the
+  reference can afford it (its steps are capped by the largest damping rate:
+  :func:`damping_rate` x stop <= :data:`REFERENCE_STIFFNESS`), and runs no fd check (the fd
+  bound's constant was fitted without damping). Cases without damping have no ``J_*``
+  parameters at all and are the cases they were before.
 
 Grids (all start at 0, end at the stop time and hold every load edge before it, plus the
 case's common sample times): ``coarse`` (2-5 uniform points), ``fine`` (150-400 uniform
@@ -42,7 +50,7 @@ from pipeplug_harness.load import Load
 
 __all__ = ["Case", "Plan", "generate", "edges_of", "load_at", "loads_on", "host_calls", "calls_of",
            "case_to_json", "case_from_json", "RIGID_PARAMETERS", "GRIDS",
-           "strikes_on_calls"]
+           "strikes_on_calls", "damping_rate", "DAMPED_SHARE", "REFERENCE_STIFFNESS"]
 
 #: the parameters of the rigid models (the reference's names, the contract's names)
 RIGID_PARAMETERS = paper.RIGID_PARAMETERS
@@ -53,6 +61,12 @@ _R1, _H1, _RHO1 = 0.035, 0.003, 7800.0
 _Q_MAX = 60e3                    # N, largest random load
 _DURATIONS = (1e-5, 0.2)         # s, shortest and longest segment
 _LIMIT_MAX = 2.0 * _Q_MAX        # N, largest load at a friction limit (a 1e-6 plug's is MN)
+#: share of the model I cases with Smith damping
+DAMPED_SHARE = 1.0 / 3.0
+_J_RANGE, _J_LARGE = (0.01, 1.0), (1.0, 100.0)    # s/m, log-uniform
+#: largest damping rate x stop time [1] of a damped case compared with the reference
+#: (DOP853 takes up to about half as many steps per piece)
+REFERENCE_STIFFNESS = 4e3
 
 
 @dataclass(frozen=True)
@@ -99,8 +113,10 @@ class Case:
 
     @property
     def model(self) -> str:
-        """``"II"`` (contact growth) or ``"I"``."""
-        return "II" if self.growth else "I"
+        """``"II"`` (contact growth), ``"I damped"`` (Smith damping) or ``"I"``."""
+        if self.growth:
+            return "II"
+        return "I damped" if "J_shaft" in self.params else "I"
 
     @property
     def options(self) -> dict:
@@ -108,9 +124,11 @@ class Case:
         return {"solver": "exact", "contact_growth": self.growth}
 
 
-def generate(seed: int, index: int, plan: Plan = Plan(), faces: bool = True) -> Case:
+def generate(seed: int, index: int, plan: Plan = Plan(), faces: bool = True,
+             damping: bool = True) -> Case:
     """Case ``index`` of the fuzz run ``seed`` (see the module docstring); ``faces=False``:
-    without end resistance (the case as it was before it existed)."""
+    without end resistance, ``damping=False``: without Smith damping (the case as it was
+    before each existed)."""
     rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index,)))
     growth = bool(rng.random() < 0.6)
     L1 = 1.0 if rng.random() < 0.7 else float(10.0 ** rng.uniform(math.log10(0.3), math.log10(3)))
@@ -144,8 +162,46 @@ def generate(seed: int, index: int, plan: Plan = Plan(), faces: bool = True) -> 
         segments = _face_limit_loads(face, segments, F1, F2, params, S1, S2)
     grids = _grids(rng, segments, stop, samples)
     host_h = stop / int(rng.integers(10, 301))
-    return Case(seed, index, growth, params, segments, stop, samples, grids, host_h,
-                plan.checks_for(index))
+    checks = plan.checks_for(index)
+    if damping and not growth:
+        params.update(_damping(np.random.default_rng(
+            np.random.SeedSequence(seed, spawn_key=(index, 2)))))
+        if "J_shaft" in params:
+            stiff = damping_rate(params) * stop > REFERENCE_STIFFNESS
+            checks = tuple(c for c in checks if c != "fd" and not (stiff and c == "reference"))
+    return Case(seed, index, growth, params, segments, stop, samples, grids, host_h, checks)
+
+
+def _damping(rng) -> dict:
+    """``J_shaft``, ``J_face`` [s/m] for a share of the cases, else nothing (module
+    docstring)."""
+    if rng.random() >= DAMPED_SHARE:
+        return {}
+    values = []
+    for _ in range(2):
+        r = rng.random()
+        low, high = _J_LARGE if r < 0.1 else _J_RANGE
+        values.append(0.0 if r > 0.75 else float(10.0 ** rng.uniform(math.log10(low),
+                                                                      math.log10(high))))
+    if values == [0.0, 0.0]:
+        values[0] = float(10.0 ** rng.uniform(*np.log10(_J_RANGE)))
+    return {"J_shaft": values[0], "J_face": values[1]}
+
+
+def damping_rate(params: dict) -> float:
+    """A bound [1/s] of the largest damping rate of model I with ``params`` (every damper
+    over the mass it acts on, from the paper's formulas), 0 without damping."""
+    js, jf = params.get("J_shaft", 0.0), params.get("J_face", 0.0)
+    R1, h1 = params["R1"], params["h1"]
+    S1, S2 = math.pi * ((R1 + h1) ** 2 - R1 ** 2), math.pi * R1 ** 2
+    M1 = params["rho1"] * S1 * params["L1"]
+    F1 = 2.0 * math.pi * (R1 + h1) * params["L1"] * params["tau1"]
+    rate = (js * F1 + jf * params.get("q_face", 0.0) * S1) / M1
+    if params["L2"] > 0.0 and params["tau2"] > 0.0:
+        M2 = params["rho2"] * S2 * params["L2"]
+        F2 = 2.0 * math.pi * R1 * params["L2"] * params["tau2"]
+        rate += js * F2 / M1 + (js * F2 + jf * params.get("q_plug_face", 0.0) * S2) / M2
+    return rate
 
 
 def _plug(rng, L1: float, M1: float, S2: float, P2: float) -> tuple[float, float, float]:

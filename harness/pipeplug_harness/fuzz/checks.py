@@ -44,15 +44,18 @@ CHECKS: dict[str, Check] = {
                                   "where a contact mode differs from the reference's"),
     "grid": Check(1e-12, "coarse vs fine vs irregular grid at the common sample times: "
                          "largest |difference| / scale over all outputs (modes: exact)"),
-    "energy": Check(1e-12, "|W_input - kinetic energy - W_friction - W_face| / largest work"),
+    "energy": Check(1e-12, "|W_input - kinetic energy - W_friction - W_face - W_damping| / "
+                           "largest work"),
     "friction work": Check(0.0, "largest decrease of W_friction, W_friction_outer, "
-                                "W_friction_inner or W_face between two points / largest "
-                                "work"),
+                                "W_friction_inner, W_face or W_damping between two points / "
+                                "largest work"),
     "stuck": Check(0.0, "points where a stuck contact's relative velocity is not exactly 0 "
                         "(pipe_mode 0: v_pipe; plug_mode 0: v_pipe - v_plug), or, without a "
                         "plug, a plug output is not exactly 0"),
-    "static limits": Check(1e-12, "largest (|F_inner| - F2) / F2 and (|F_outer| - "
-                                  "P1 tau1 Lc(u)) / (that limit + |Q| + F2)"),
+    "static limits": Check(1e-12, "largest (|F_inner| - F2 D2) / F2 and (|F_outer| - "
+                                  "P1 tau1 Lc(u) D1) / (that limit + |Q| + F2), with Smith "
+                                  "damping's D1 = 1 + J_shaft |v_pipe|, D2 = 1 + J_shaft "
+                                  "|v_pipe - v_plug| (1 without)"),
     "at rest": Check(0.0, "points where at_rest holds but a velocity is not 0 or a step "
                           "under Q = 0 changes an output"),
     "ram ledger": Check(1e-12, "model I with a ram: |W_input + W_ram - E_kinetic - E_strain - "
@@ -101,8 +104,9 @@ CHECKS: dict[str, Check] = {
 
 #: outputs compared with the reference at every point
 CONTINUOUS = ("v_pipe", "v_plug", "u_pipe", "u_plug", "W_input", "W_friction",
-              "W_friction_outer", "W_friction_inner", "W_face")
-_WORKS = ("W_input", "W_friction", "W_friction_outer", "W_friction_inner", "W_face")
+              "W_friction_outer", "W_friction_inner", "W_face", "W_damping")
+_WORKS = ("W_input", "W_friction", "W_friction_outer", "W_friction_inner", "W_face",
+          "W_damping")
 #: Outputs measured on one scale, the largest magnitude over the run of any of them. The
 #: plug's velocity is set to the pipe's at each stick, so it is known to the pipe's absolute
 #: accuracy (an event time one ulp off times the pipe's deceleration), not to a share of its
@@ -126,6 +130,7 @@ class Body(NamedTuple):
     growth: bool
     Qf: float = 0.0    #: the annulus' end resistance q_face S1 [N]
     Qp: float = 0.0    #: the plug face's q_plug_face S2 [N] (0 without a plug)
+    J_shaft: float = 0.0   #: Smith damping of shaft and plug friction [s/m]
 
     @classmethod
     def of(cls, params: dict, growth: bool) -> Body:
@@ -137,7 +142,7 @@ class Body(NamedTuple):
         F2 = 2.0 * math.pi * R1 * params["L2"] * params["tau2"] if plug else 0.0
         qp = params.get("q_plug_face", 0.0) * math.pi * R1 ** 2 if plug else 0.0
         return cls(M1, M2, F2, 2.0 * math.pi * (R1 + h1) * params["tau1"], L1, growth,
-                   params.get("q_face", 0.0) * S1, qp)
+                   params.get("q_face", 0.0) * S1, qp, params.get("J_shaft", 0.0))
 
     @property
     def plug(self) -> bool:
@@ -207,11 +212,12 @@ def _family_scales(stack) -> list[float]:
 
 
 def energy_error(rows, body: Body) -> float:
-    """Largest |W_input - kinetic energy - W_friction - W_face| over the largest work."""
+    """Largest |W_input - kinetic energy - W_friction - W_face - W_damping| over the largest
+    work."""
     v1, v2 = rows[:, COLUMN["v_pipe"]], rows[:, COLUMN["v_plug"]]
     kinetic = 0.5 * body.M1 * v1 * v1 + 0.5 * body.M2 * v2 * v2
     balance = (rows[:, COLUMN["W_input"]] - kinetic - rows[:, COLUMN["W_friction"]]
-               - rows[:, COLUMN["W_face"]])
+               - rows[:, COLUMN["W_face"]] - rows[:, COLUMN["W_damping"]])
     return relative_error(balance, 0.0, _scale(*(rows[:, COLUMN[n]] for n in _WORKS)))
 
 
@@ -219,7 +225,7 @@ def friction_decrease(rows) -> float:
     """Largest decrease of a friction work between consecutive points (from 0 at t = 0),
     over the largest work."""
     worst = 0.0
-    for name in ("W_friction", "W_friction_outer", "W_friction_inner", "W_face"):
+    for name in ("W_friction", "W_friction_outer", "W_friction_inner", "W_face", "W_damping"):
         steps = np.diff(np.concatenate([[0.0], rows[:, COLUMN[name]]]))
         worst = max(worst, float(-np.min(steps, initial=0.0)))
     return relative_error(worst, 0.0, _scale(*(rows[:, COLUMN[n]] for n in _WORKS)))
@@ -241,7 +247,8 @@ def stuck_violations(rows, body: Body) -> float:
 def limit_excess(rows, loads, body: Body) -> float:
     """How far a friction force exceeds its limit (relative; see :data:`CHECKS`)."""
     c = COLUMN
-    outer = body.outer_limit(rows[:, c["u_pipe"]])
+    v1, v2 = rows[:, c["v_pipe"]], rows[:, c["v_plug"]]
+    outer = body.outer_limit(rows[:, c["u_pipe"]]) * (1.0 + body.J_shaft * np.abs(v1))
     f_outer = np.abs(rows[:, c["F_outer"]])
     scale = outer + np.abs(loads) + body.F2
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -249,7 +256,8 @@ def limit_excess(rows, loads, body: Body) -> float:
     worst = float(np.max(excess, initial=0.0))
     f_inner = np.abs(rows[:, c["F_inner"]])
     if body.plug:
-        worst = max(worst, float(np.max((f_inner - body.F2) / body.F2, initial=0.0)))
+        inner = body.F2 * (1.0 + body.J_shaft * np.abs(v1 - v2))
+        worst = max(worst, float(np.max((f_inner - inner) / body.F2, initial=0.0)))
     return max(worst, 0.0)
 
 

@@ -82,19 +82,29 @@ def _rest_violated(model, out, t: float, stop: float) -> int:
 
 
 def run_reference(case: Case, times, params=None) -> dict:
-    """The independent reference (DOP853, :mod:`pipeplug_references.rigid_ivp`, or
-    :mod:`pipeplug_references.face_ivp` with end resistance) at ``times``; ``W_face`` is 0
-    without end resistance."""
+    """The independent reference (DOP853, :mod:`pipeplug_references.rigid_ivp`,
+    :mod:`pipeplug_references.face_ivp` with end resistance, or
+    :mod:`pipeplug_references.damping_ivp` with Smith damping) at ``times``; ``W_face`` and
+    ``W_damping`` are 0 where their effect is absent."""
     params = dict(params or case.params)
+    if any(params.get(k, 0.0) for k in ("J_shaft", "J_face")):
+        from pipeplug_references.damping_ivp import simulate_damped
+
+        return simulate_damped(params, case.segments, times, case.growth)
+    for k in ("J_shaft", "J_face"):
+        params.pop(k, None)
     faces = {k: params.pop(k, 0.0) for k in ("q_face", "q_plug_face")}
+    zeros = np.zeros(len(np.atleast_1d(times)))
     if any(faces.values()):
         from pipeplug_references.face_ivp import simulate_face
 
-        return simulate_face({**params, **faces}, case.segments, times, case.growth)
+        out = simulate_face({**params, **faces}, case.segments, times, case.growth)
+        out["W_damping"] = zeros
+        return out
     from pipeplug_references.rigid_ivp import simulate
 
     out = simulate(params, case.segments, times, case.growth)
-    out["W_face"] = np.zeros(len(np.atleast_1d(times)))
+    out["W_face"], out["W_damping"] = zeros, zeros
     return out
 
 

@@ -156,3 +156,92 @@ def test_refusals_name_the_parameter_and_the_combination(params, options, words)
         build_model(dict(params, L1=1.0, dx=0.01), options)
     assert refusal.value.name in ("J_shaft", "J_face")
     assert words in str(refusal.value)
+
+
+def test_a_pipe_held_exactly_at_its_limit_under_a_sliding_plug_stays_held():
+    # No shaft friction: the annulus' end resistance Qf holds the pipe forward, nothing holds
+    # it backward. Pipe and plug driven back, then the load Qf + F2 (exactly the limit of a
+    # held pipe under a plug sliding back in it): the pipe stops and stays held (stuck first)
+    # while the plug slides to a stick; its margin to the limit is a constant 0 (no damper
+    # acts on it), no breakaway. Modes and events from the reference.
+    tau2, L2, q_face = 3.3e4, 0.9, 3.3e7
+    F2, Qf = 2 * math.pi * R1 * L2 * tau2, q_face * S1
+    params = dict(tau1=0.0, tau2=tau2, L2=L2, q_face=q_face, J_face=0.02)
+    segments = [(0.05, -27000.0), (0.15, Qf + F2)]
+    times = np.linspace(0.0, 0.2, 201)[1:]
+    ref = simulate_damped(params, segments, times, False)
+    stops = [t for t, what in ref["events"] if what.startswith("pipe stops: (0, 1")]
+    sticks = [t for t, what in ref["events"] if what.startswith("plug sticks") and t > stops[0]]
+    model = build_model(params)
+    out = model.sample(np.where(times <= 0.05, -27000.0, Qf + F2), times)
+    assert model.modes() == ((-1, -1), (-1, 1), (0, 1), (1, 0))
+    held = (times > stops[0]) & (times < sticks[0])
+    assert np.count_nonzero(held) > 40
+    assert np.all(out["v_pipe"][held] == 0.0) and np.all(out["pipe_mode"][held] == 0)
+    scale = np.max(np.abs(ref["v_plug"]))
+    assert np.max(np.abs(out["v_plug"] - ref["v_plug"])) <= 1e-12 * scale
+
+
+def test_a_velocity_decaying_to_zero_is_the_same_on_every_grid_and_its_works_never_fall():
+    # Pushed, then held at exactly its friction limit (Q = T1): M v' = -c v, v0 exp(-c t / M),
+    # zero only in the limit. Where it has decayed to round-off, whether it has stopped is
+    # round-off too, but the same on every host's grid, and no work decreases.
+    tau1, j = 2e4, 0.5
+    t1 = P1 * L1 * tau1
+    params = {"tau1": tau1, "tau2": 0.0, "J_shaft": j}
+    end = T0 + 200 * M1 / (j * t1)                 # 200 time constants: v0 exp(-200)
+    coarse = np.array([T0, end])
+    fine = np.concatenate([np.linspace(0.001, T0, 50), np.linspace(T0, end, 2001)[1:]])
+    outs = []
+    for times in (coarse, fine):
+        model = build_model(params)
+        outs.append(model.sample(np.where(times <= T0, Q, t1), times))
+    for name in outs[0]:
+        assert outs[0][name][-1] == outs[1][name][-1], name
+    v0 = _sliding_pipe(T0, tau1, j)[0]
+    after = fine > T0
+    decay = v0 * np.exp(-j * t1 / M1 * (fine[after] - T0))
+    assert np.max(np.abs(outs[1]["v_pipe"][after] - decay)) <= 1e-13 * v0
+    for name in ("W_friction", "W_damping"):
+        assert np.all(np.diff(outs[1][name]) >= 0.0), name
+
+
+def test_a_stick_closed_by_round_off_conserves_momentum():
+    # A plug 600 times the pipe's mass, stiffly coupled (J_shaft 81 s/m): a load reverses the
+    # pipe, whose sliding speed on the plug closes within 2.3 us; round-off carries it past
+    # zero, and the plug set to the pipe's velocity took 2.7e-12 J (6e-13 of the works) out
+    # of the ledger W_input = E_kinetic + W_friction + W_face + W_damping.
+    params = {"L2": 0.038004522214962026, "rho2": 22134688.431499217,
+              "tau1": 25625.05653975771, "tau2": 998275.0654159638,
+              "q_face": 84411259.63400412, "J_shaft": 81.36734041634145,
+              "J_face": 0.3323013315254771}
+    segments = [(0.09037887259787439, 8343.214578901428),
+                (0.0009244359562810896, -64193.95389142974),
+                (0.00553966465959264, 48561.50767870751)]
+    model = build_model(params)
+    t, worst, largest = 0.0, 0.0, 0.0
+    for duration, q in segments:
+        for s in np.linspace(t, t + duration, 40)[1:]:
+            model.advance_to(q, s)
+            out = model.outputs()
+            worst = max(worst, abs(out.W_input - out.E_kinetic - out.W_friction - out.W_face
+                                   - out.W_damping))
+            largest = max(largest, out.W_input)
+        t += duration
+    assert worst <= 1e-14 * largest
+
+
+def test_a_decayed_piece_never_gives_back_work():
+    # M v' = -c v: W_damping = c int v^2 = M v0^2 (1 - exp(-2 c t / M)) / 2 grows (to the last
+    # bit) also where it has flattened out; so does the displacement (fuzz 2026:2078).
+    from pipeplug.rigid.linear import LinearPiece
+
+    m = 5.36646857086209
+    c, v0 = 3013.4449519802 * m, -1.2165327109940056 / math.sqrt(m)
+    piece = LinearPiece([m], [[c]], [0.0], [v0])
+    t = np.linspace(0.005, 0.01, 2001)                # c t / m from 15 to 30: flat
+    work = np.array([piece.dissipation(s) for s in t])
+    travel = np.array([piece.displacement(s)[0] for s in t])
+    assert np.all(np.diff(work) >= 0.0) and np.all(np.diff(travel) <= 0.0)
+    exact = 0.5 * m * v0 ** 2 * -np.expm1(-2 * c / m * t)
+    assert np.max(np.abs(work - exact)) <= 1e-15 * exact[-1]

@@ -6,9 +6,11 @@ import math
 
 from pipeplug_harness.fuzz.cases import (
     GRIDS,
+    REFERENCE_STIFFNESS,
     Plan,
     case_from_json,
     case_to_json,
+    damping_rate,
     edges_of,
     generate,
     host_calls,
@@ -43,7 +45,7 @@ def test_plan_marks_the_costly_checks():
 def test_domains_are_covered():
     cases = [generate(11, i) for i in range(600)]
     models = {c.model for c in cases}
-    assert models == {"I", "II"}
+    assert models == {"I", "I damped", "II"}
     bodies = [Body.of(c.params, c.growth) for c in cases]
     ratios = [b.M2 / b.M1 for b in bodies if b.plug]
     assert min(ratios) < 1e-5 and max(ratios) > 1e2                # 1e-6 .. 1e3 pipe masses
@@ -96,3 +98,28 @@ def test_hosts_step_to_the_stop_through_every_edge():
             assert all(h > 0.0 for _, h in calls)
         for t, _ in host_calls(case, "t=k*h"):
             assert t in inner or t == round(t / case.host_h) * case.host_h   # t = k h
+
+
+def test_a_share_of_model_i_draws_smith_damping():
+    cases = [generate(13, i, Plan(1, 1, 1)) for i in range(600)]
+    damped = [c for c in cases if "J_shaft" in c.params]
+    model_i = [c for c in cases if not c.growth]
+    assert all(not c.growth and c.model == "I damped" for c in damped)   # model II refuses it
+    assert 0.2 < len(damped) / len(model_i) < 0.5
+    js = [c.params[k] for c in damped for k in ("J_shaft", "J_face")]
+    assert all(0.0 <= j <= 100.0 for j in js) and not any(
+        c.params["J_shaft"] == c.params["J_face"] == 0.0 for c in damped)
+    assert any(j == 0.0 for j in js) and any(0.01 <= j < 1.0 for j in js)
+    assert any(j > 1.0 for j in js)
+    # no fd check; the reference where it is affordable (most of them), not elsewhere
+    assert all("fd" not in c.checks for c in damped)
+    compared = [c for c in damped if "reference" in c.checks]
+    assert len(compared) > len(damped) / 2
+    assert all(damping_rate(c.params) * c.stop <= REFERENCE_STIFFNESS for c in compared)
+    # without damping, a case is the one it was before: the same draws, no J parameters
+    for c in cases[:100]:
+        plain = generate(13, c.index, Plan(1, 1, 1), damping=False)
+        assert "J_shaft" not in plain.params and "J_face" not in plain.params
+        assert plain.segments == c.segments and plain.grids == c.grids
+        if "J_shaft" not in c.params:
+            assert plain == c

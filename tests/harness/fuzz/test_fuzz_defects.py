@@ -147,3 +147,27 @@ def test_end_resistance_work_that_is_not_booked_fails_the_energy_check(monkeypat
     summary = _run(monkeypatch, skewed(lambda out, m: out._replace(W_face=0.0)), cases=20,
                    plan=Plan(0, 0, 0))
     assert _failed(summary, "energy") >= 3
+
+
+def _weak_damping(params, options):
+    """Smith damping 1e-4 too weak: consistent with itself (ledger, invariants)."""
+    weak = {k: params[k] * (1.0 - 1e-4) for k in ("J_shaft", "J_face") if k in params}
+    return build_model({**params, **weak}, options)
+
+
+def _run_damped(monkeypatch, builder, plan):
+    """Three cases of seed 2 with damping that acts (and the reference affordable)."""
+    monkeypatch.setitem(CORE_PATHS, "defect", builder)
+    return fuzz(2, (49, 52, 56), plan, Setup(("defect",)), progress=None)[0]
+
+
+def test_a_wrong_damping_fails_the_reference_check_only(monkeypatch):
+    summary = _run_damped(monkeypatch, _weak_damping, Plan(1, 0, 0))
+    assert _failed(summary, "reference") == 3
+    assert all(_failed(summary, check) == 0 for check in INVARIANTS)
+
+
+def test_damping_work_that_is_not_booked_fails_the_energy_check(monkeypatch):
+    summary = _run_damped(monkeypatch, skewed(lambda out, m: out._replace(W_damping=0.0)),
+                          Plan(0, 0, 0))
+    assert _failed(summary, "energy") == 3
