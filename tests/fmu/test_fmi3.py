@@ -146,3 +146,26 @@ def test_documentation_names_every_variable_and_what_fmi3_changes(fmi3_files, na
             assert f"<td>{v.name}</td>" in html, v.name
     if name == "PipePlug":
         assert "profile_points elements each" in html
+
+
+def test_the_readme_gives_the_value_references_of_the_model_description(fmi3_dirs):
+    """The README's FMI 3.0 host example hard-codes value references (a C host has no names):
+    they are those of the FMU the build writes."""
+    import re
+    import xml.etree.ElementTree as ET
+    from pathlib import Path
+
+    root = ET.parse(fmi3_dirs["PipePlug"] / "modelDescription.xml").getroot()
+    refs = {v.get("name"): int(v.get("valueReference")) for v in root.iter()
+            if v.get("valueReference") is not None}
+    text = (Path(__file__).resolve().parents[2] / "README.md").read_text()
+    names = ("Q", "elastic", "profile_points", "stress_pipe_profile")
+    prose = re.search(r"Q (\d+), elastic (\d+),\s+profile_points (\d+), stress_pipe_profile (\d+)",
+                      text)
+    code = re.search(r"fmi3ValueReference q = (\d+), elastic = (\d+), points = (\d+), "
+                     r"stress = (\d+);", text)
+    fmpy = re.search(r"getFloat64\(\[(\d+)\], nValues=n\)", text)
+    expected = [refs[name] for name in names]
+    assert [int(g) for g in prose.groups()] == expected
+    assert [int(g) for g in code.groups()] == expected
+    assert int(fmpy.group(1)) == refs["stress_pipe_profile"]
