@@ -115,7 +115,8 @@ def plot_plug(path: Path, result: DriveResult) -> Path:
             if b.cleanout:
                 ax.axvline(b.penetration - b.set, color="C4", lw=0.6, alpha=0.7)
         ax.grid(alpha=0.3)
-    top.set_title(_title(result) + (f", {result.cleanouts} clean-outs (violet)"
+    plural = "s" if result.cleanouts != 1 else ""
+    top.set_title(_title(result) + (f", {result.cleanouts} clean-out{plural} (violet)"
                                     if result.cleanouts else ""), fontsize=8)
     fig.tight_layout()
     return io.save_png(fig, path)

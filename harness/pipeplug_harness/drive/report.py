@@ -92,7 +92,7 @@ def plug(result: DriveResult) -> str:
             f"{f' ({last.plugging})' if last.plugging else ''}, {coring} of "
             f"{len(result.blows)} blows coring (IFR > {IFR_TOL:g})")
     if result.spec.cleanouts is not None:
-        text += f", {result.cleanouts} clean-outs"
+        text += f", {result.cleanouts} clean-out{'s' if result.cleanouts != 1 else ''}"
     return text
 
 
@@ -106,7 +106,7 @@ def stresses(result: DriveResult) -> str:
         return ""
     spec = result.spec
     low = min(b.stress_min for b in result.blows)
-    high = max(b.stress_max for b in result.blows)
+    high = max([0.0] + [b.stress_max for b in result.blows])   # no tension: 0, not -0
     text = (f"; largest stress {-low / 1e6:.4g} MPa compressive, {high / 1e6:.4g} MPa "
             f"tensile")
     if spec.yield_stress:

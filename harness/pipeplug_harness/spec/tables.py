@@ -95,6 +95,8 @@ SECTIONS: dict[str, dict[str, Key]] = {
         "rho2": _core("rho2", (100.0, 5000.0)),
         "E2": _core("E2", (1e3, 1e12)),
         "tau2": _core("tau2", (0.0, 1e7), required=True),
+        "plug_growth": _core("plug_growth"),
+        "L2_after_cleanout": _core("L2_after_cleanout", (0.0, 500.0)),
     },
     "soil": {
         "tau1": _core("tau1", (0.0, 1e7), required=True),
@@ -103,6 +105,9 @@ SECTIONS: dict[str, dict[str, Key]] = {
         # end bearing from none to rock (cone resistances of dense sand reach 20-40 MPa)
         "q_face": _core("q_face", (0.0, 1e8)),
         "q_plug_face": _core("q_plug_face", (0.0, 1e8)),
+        # Smith's damping factors: shaft 0.16 s/m (sand) to 0.66 s/m (clay), toe 0.49 s/m
+        "J_shaft": _core("J_shaft", (0.0, 10.0)),
+        "J_face": _core("J_face", (0.0, 10.0)),
     },
     "blows": {
         "amplitude": Key("number", "N", None, True, (-1e9, 1e9), meaning="force of every blow"),
