@@ -190,9 +190,14 @@ def drive_spec(name: str, values: dict, limits: Limits | None = None) -> DriveSp
         if not ok:
             raise UserError(f"[drive] {key} = {value!r}; allowed: {allowed}")
     _bound(limits or Limits(), params, elastic, train, step, drive["max_blows"])
+    cleanouts = _cleanouts(drive)
+    if cleanouts is not None and not start.get("plug_growth", False):
+        raise UserError(f"[drive] cleanout_{'at' if cleanouts.by == 'penetration' else 'at_blows'}"
+                        f" = {list(cleanouts.at)!r}; allowed: none without [plug] "
+                        f"plug_growth = true (only a plug that grows is cleaned out)")
     return DriveSpec(name, start, train.amplitude, train.duration, train.period,
                      target, count, length, drive["max_blows"], step, reason, grid, hammer,
-                     drive["yield_stress"], _cleanouts(drive))
+                     drive["yield_stress"], cleanouts)
 
 
 class _Train(NamedTuple):

@@ -10,9 +10,9 @@ from drive_helpers import toml_text
 
 from pipeplug_harness.drive.file import load_drive
 from pipeplug_harness.drive.report import summary, write_csv
-from pipeplug_harness.drive.run import PLUG_LENGTH, drive_with, run_drive_on_core
+from pipeplug_harness.drive.run import drive_with, run_drive_on_core
 from pipeplug_harness.errors import UserError
-from pipeplug_harness.session import CoreSession, fmu_inputs
+from pipeplug_harness.session import CoreSession
 from pipeplug_references.rigid_ivp import simulate
 
 # test_drive_rigid's MOVING case: blows end moving, then a blow that does not move the pipe
@@ -124,7 +124,8 @@ def test_clean_outs_rise_at_the_start_of_their_blows(tmp_path, by):
     past each value; two values passed in one blow are one clean-out (two thresholds between
     the penetrations after blows 1 and 2: before blow 3; one equal to the penetration after
     blow 3: before blow 4)."""
-    free = run_drive_on_core(_load(tmp_path, RIGID))
+    growing = {**RIGID, "plug": {**RIGID["plug"], "plug_growth": True}}
+    free = run_drive_on_core(_load(tmp_path, growing))
     depth = [b.penetration for b in free.blows]
     if by == "blows":
         drive, expected = {"cleanout_at_blows": [2, 4]}, [2, 4]
@@ -132,7 +133,7 @@ def test_clean_outs_rise_at_the_start_of_their_blows(tmp_path, by):
         between = [0.6 * depth[0] + 0.4 * depth[1], 0.5 * (depth[0] + depth[1]),
                    depth[2]]
         drive, expected = {"cleanout_at": [f"{x!r} m" for x in between]}, [3, 4]
-    spec = _load(tmp_path, {**RIGID, "drive": {**RIGID["drive"], **drive}})
+    spec = _load(tmp_path, {**growing, "drive": {**RIGID["drive"], **drive}})
     session = _Cleaning(spec.start_values)
     result = drive_with(spec, session)
     assert [b.blow for b in result.blows if b.cleanout] == expected
@@ -141,30 +142,37 @@ def test_clean_outs_rise_at_the_start_of_their_blows(tmp_path, by):
     assert [b.penetration for b in result.blows] == depth      # the stand-in cleans nothing
 
 
-def test_an_fmu_without_the_clean_out_input_refuses_the_drive(pipeplug_cli, fmu_file,
-                                                               tmp_path):
-    if "cleanouts" in fmu_inputs(fmu_file):
-        pytest.skip("this FMU has the input cleanouts (test_clean_outs_through_the_fmu runs)")
+class _NoCleaning(CoreSession):
+    """A stand-in of an FMU without the input ``cleanouts`` (an older PipePlug.fmu)."""
+
+    def __init__(self, start_values):
+        super().__init__(start_values)
+        self.inputs = frozenset({"Q", "strikes", "v_strike"})
+
+
+def test_clean_outs_need_a_growing_plug_and_an_fmu_with_the_input(pipeplug_cli, fmu_file,
+                                                                  tmp_path):
+    """Without [plug] plug_growth = true the file is refused before any run (exit 2, no
+    output folder); with it, an instance without the input ``cleanouts`` refuses the drive."""
     sections = {**RIGID, "drive": {**RIGID["drive"], "cleanout_at": ["0.2 m", "0.4 m"]}}
     (tmp_path / "c.toml").write_text(toml_text(sections))
     proc = pipeplug_cli("drive", "c.toml", "--fmu", fmu_file, "--out", "o", check=False)
     assert proc.returncode == 2 and not (tmp_path / "o").exists()
     assert proc.stderr.strip() == (
-        "pipeplug drive: c.toml: [drive] cleanout_at = [0.2, 0.4]; allowed: none with this "
-        "FMU: it has no input 'cleanouts' (a plug that grows and is cleaned out); its inputs: "
-        "Q, strikes, v_strike")
-    spec = load_drive(tmp_path / "c.toml")          # a core model without clean-outs too
+        "pipeplug drive: c.toml: [drive] cleanout_at = [0.2, 0.4]; allowed: none without "
+        "[plug] plug_growth = true (only a plug that grows is cleaned out)")
+    growing = {**sections, "plug": {**RIGID["plug"], "plug_growth": True}}
+    (tmp_path / "g.toml").write_text(toml_text(growing))
+    spec = load_drive(tmp_path / "g.toml")
     with pytest.raises(UserError, match="no input 'cleanouts'"):
-        drive_with(spec, CoreSession(spec.start_values))
+        drive_with(spec, _NoCleaning(spec.start_values))
 
 
 def test_clean_outs_through_the_fmu(run_drive):
-    """For the merge with the growing plug (the FMU's input cleanouts, output L2_now, parameters
-    plug_growth, L2_after_cleanout): runs once the core has them. A clean-out leaves at most
+    """The FMU's input cleanouts, output L2_now, parameters plug_growth, L2_after_cleanout
+    from a drive file. A clean-out leaves at most
     L2_after_cleanout plus what the blow itself adds, at most its set (soil enters the pipe no
     faster than the pipe advances)."""
-    if PLUG_LENGTH not in __import__("pipeplug").OUTPUT_NAMES:
-        pytest.skip("the core has no output L2_now yet (the growing plug is merged later)")
     sections = {**RIGID, "plug": {**RIGID["plug"], "plug_growth": True,
                                   "L2_after_cleanout": 0.1},
                 "drive": {**RIGID["drive"], "cleanout_at_blows": [3]}}
