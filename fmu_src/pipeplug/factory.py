@@ -167,6 +167,9 @@ def _check_damping(params: Params, options: Options) -> None:
                              "rigid models carry Smith damping")
     if params.has_ram:
         raise ParameterError(name, value, "0 with a ram (ram_mass > 0) in the rigid models")
+    if options.plug_growth:
+        raise ParameterError(name, value, "0 with plug_growth (the growing plug's solver "
+                             "carries no damping)")
     if options.contact_growth and options.solver == "exact":
         raise ParameterError(name, value, "0 with contact_growth and solver = 'exact' (model "
                              "II's damped shaft friction J_shaft P1 tau1 U1 U1' is not linear, "

@@ -96,7 +96,7 @@ class Load:
         a duplicated time stamp, so the step starting there sees the new value. PipePlug's
         other inputs are the ram's: ``strikes`` ((time [s], velocity [m/s]) each) raise the
         counter ``strikes`` at their times, with ``v_strike``; without them both hold their
-        start values (fmpy warns of every input a signal leaves out)."""
+        start values; ``cleanouts`` stays 0 (fmpy warns of every input a signal leaves out)."""
         at = {float(t): v for t, v in strikes}
         points = sorted({0.0, *self.changes_within(0.0, stop), *(t for t in at if t < stop),
                          stop})
@@ -105,9 +105,10 @@ class Load:
             if a in at:
                 count, speed = count + 1, at[a]
             q = self.at(a)
-            rows += [(a, q, count, speed), (b, q, count, speed)]
+            rows += [(a, q, count, speed, 0), (b, q, count, speed, 0)]
         return np.array(rows, dtype=[("time", np.float64), ("Q", np.float64),
-                                     ("strikes", np.int32), ("v_strike", np.float64)])
+                                     ("strikes", np.int32), ("v_strike", np.float64),
+                                     ("cleanouts", np.int32)])
 
 
 #: no force at all

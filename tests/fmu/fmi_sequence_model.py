@@ -28,8 +28,8 @@ NUMBERS = tuple(name for name in DEFAULTS if name not in OPTIONS)
 REAL_OUTPUTS = ("v_pipe", "v_plug", "u_pipe", "u_plug", "F_outer", "F_inner", "W_input",
                 "W_friction", "W_friction_outer", "W_friction_inner", "E_kinetic", "E_strain",
                 "W_numerical", "F_head", "v_ram", "W_ram", "W_cushion", "E_transferred",
-                "stress_head", "stress_min", "stress_max", "W_face", "L2_now", "W_accretion",
-                "W_removed")
+                "stress_head", "stress_min", "stress_max", "W_face", "W_damping", "L2_now",
+                "W_accretion", "W_removed")
 MODES = ("pipe_mode", "plug_mode")
 FLAGS = ("at_rest",)
 OK, DISCARD, ERROR = 0, 2, 3

@@ -20,7 +20,8 @@ from fmu_helpers import (
 #: SI base-unit exponents of the contract's units.
 SI = {"m": {"m": 1}, "s": {"s": 1}, "m/s": {"m": 1, "s": -1}, "kg/m3": {"kg": 1, "m": -3},
       "N": {"kg": 1, "m": 1, "s": -2}, "Pa": {"kg": 1, "m": -1, "s": -2},
-      "J": {"kg": 1, "m": 2, "s": -2}, "kg": {"kg": 1}, "N/m": {"kg": 1, "s": -2}, "1": {}}
+      "J": {"kg": 1, "m": 2, "s": -2}, "kg": {"kg": 1}, "N/m": {"kg": 1, "s": -2}, "1": {},
+      "s/m": {"s": 1, "m": -1}}
 
 
 @pytest.fixture(scope="module")

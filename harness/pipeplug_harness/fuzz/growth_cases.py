@@ -51,7 +51,7 @@ class GrowthCase:
 
 def generate_growth(seed: int, index: int, plan: Plan = _PLAN) -> GrowthCase:
     """Case ``index`` of the growing plug's fuzz run ``seed`` (module docstring)."""
-    base = generate(seed, index, plan)
+    base = generate(seed, index, plan, damping=False)      # the growing plug is not damped
     rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index, 9)))
     p = dict(base.params)
     L1 = p["L1"]

@@ -61,7 +61,7 @@ class RamCase:
 
 def generate_ram(seed: int, index: int, plan: Plan = _PLAN) -> RamCase:
     """Case ``index`` of the ram fuzz run ``seed`` (module docstring)."""
-    base = generate(seed, index, plan)
+    base = generate(seed, index, plan, damping=False)      # a rigid ram is not damped
     rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index, 7)))
     p = base.params
     M1 = p["rho1"] * math.pi * ((p["R1"] + p["h1"]) ** 2 - p["R1"] ** 2) * p["L1"]
