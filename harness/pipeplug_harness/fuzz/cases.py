@@ -48,7 +48,7 @@ import numpy as np
 from pipeplug_harness import paper
 from pipeplug_harness.load import Load
 
-__all__ = ["Case", "Plan", "generate", "edges_of", "load_at", "loads_on", "host_calls", "calls_of",
+__all__ = ["Case", "OnBase", "Plan", "generate", "edges_of", "load_at", "loads_on", "host_calls", "calls_of",
            "case_to_json", "case_from_json", "RIGID_PARAMETERS", "GRIDS",
            "strikes_on_calls", "damping_rate", "DAMPED_SHARE", "REFERENCE_STIFFNESS"]
 
@@ -122,6 +122,16 @@ class Case:
     def options(self) -> dict:
         """The exact solver's options for this case."""
         return {"solver": "exact", "contact_growth": self.growth}
+
+
+class OnBase:
+    """A case made of a rigid case ``base`` (:class:`Case`) and more (a ram's strikes, a
+    growing plug's clean-outs): every other attribute is the base's."""
+
+    def __getattr__(self, name):
+        if name.startswith("__") or name == "base":       # copying and pickling
+            raise AttributeError(name)
+        return getattr(self.base, name)        # seed, index, params, segments, grids, ...
 
 
 def generate(seed: int, index: int, plan: Plan = Plan(), faces: bool = True,

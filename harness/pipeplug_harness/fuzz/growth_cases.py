@@ -18,7 +18,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from .cases import Case, Plan, case_from_json, case_to_json, edges_of, generate
+from .cases import Case, OnBase, Plan, case_from_json, case_to_json, edges_of, generate
 
 __all__ = ["GrowthCase", "generate_growth", "growth_to_json", "growth_from_json"]
 
@@ -26,7 +26,7 @@ _PLAN = Plan(model="growth")
 
 
 @dataclass(frozen=True)
-class GrowthCase:
+class GrowthCase(OnBase):
     """A rigid case with a growing plug (:class:`~.cases.Case`) and the times of its
     clean-outs [s] (plain data, JSON round trip exact)."""
 
@@ -34,11 +34,6 @@ class GrowthCase:
     cleanouts: tuple
     note: str = field(default="", compare=False)
     kind: str = "growth"
-
-    def __getattr__(self, name):
-        if name.startswith("__") or name == "base":       # copying and pickling
-            raise AttributeError(name)
-        return getattr(self.base, name)        # seed, index, params, segments, grids, ...
 
     @property
     def model(self) -> str:

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from .cases import Case, Plan, case_from_json, case_to_json, edges_of, generate
+from .cases import Case, OnBase, Plan, case_from_json, case_to_json, edges_of, generate
 
 __all__ = ["RamCase", "generate_ram", "ram_to_json", "ram_from_json", "RAM_PARAMETERS"]
 
@@ -31,7 +31,7 @@ _PLAN = Plan(model="ram")
 
 
 @dataclass(frozen=True)
-class RamCase:
+class RamCase(OnBase):
     """A rigid case with a ram (:class:`~.cases.Case`, always model I) and its strikes
     ``(time [s], velocity [m/s])`` (plain data, JSON round trip exact)."""
 
@@ -39,11 +39,6 @@ class RamCase:
     strikes: tuple
     note: str = field(default="", compare=False)
     kind: str = "ram"
-
-    def __getattr__(self, name):
-        if name.startswith("__") or name == "base":       # copying and pickling
-            raise AttributeError(name)
-        return getattr(self.base, name)        # seed, index, params, segments, grids, ...
 
     @property
     def model(self) -> str:
