@@ -131,6 +131,26 @@ def front_cell(v1, N1, v2, N2, dt, coef, c1, on, s, acc):
 
 
 @jitable
+def book_step_friction(v1, v2, j0, s, alone, both, front, n1, soil, acc):
+    """Book one step's friction works [J] in ``acc``: the soil's on the cells it holds
+    (``0..alone`` alone, ``both..n1`` with the plug in the contact) and the plug's (``j0..n1``),
+    from their shares in ``s``; a negative one (the step created energy) is limited first
+    (:func:`pipeplug.elastic.cells.limit`) and taken again. A pair cell out of the soil's
+    contact keeps a stale D1 of an earlier step, so it is not summed."""
+    outer = sums(s, D1, 0, alone) + sums(s, D1, both, n1)
+    inner = sums(s, D2, j0, n1)
+    if outer < 0.0 or inner < 0.0:
+        if soil:
+            limit(v1, v2, j0, s, 0, alone, j0, both, both, front)
+        else:
+            limit(v1, v2, j0, s, 0, 0, j0, front, 0, 0)
+        outer = sums(s, D1, 0, alone) + sums(s, D1, both, n1)
+        inner = sums(s, D2, j0, n1)
+        acc[LIMITED] += 1.0
+    _book_friction(acc, outer, inner)
+
+
+@jitable
 def run_face(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
     """Pipe (and plug, soil friction, contact growth, ram: as ``coef`` has them) with end
     resistance: every cell at every step (module docstring)."""
@@ -162,19 +182,7 @@ def run_face(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
             plug_cells(v1, N1, v2, N2, j0, 0, n2 - 1, a1, dt / coef[M2], coef[M1], coef[M2],
                        dt * coef[C2], s)
         front_cell(v1, N1, v2, N2, dt, coef, c1 * soil_weight(front, start), on, s, acc)
-        # the soil's cells: those alone and those with the plug in the contact (a pair cell
-        # out of it keeps a stale D1 of an earlier step, not summed)
-        outer = sums(s, D1, 0, alone) + sums(s, D1, both, n1)
-        inner = sums(s, D2, j0, n1)
-        if outer < 0.0 or inner < 0.0:
-            if soil:
-                limit(v1, v2, j0, s, 0, alone, j0, both, both, front)
-            else:
-                limit(v1, v2, j0, s, 0, 0, j0, front, 0, 0)
-            outer = sums(s, D1, 0, alone) + sums(s, D1, both, n1)
-            inner = sums(s, D2, j0, n1)
-            acc[LIMITED] += 1.0
-        _book_friction(acc, outer, inner)
+        book_step_friction(v1, v2, j0, s, alone, both, front, n1, soil, acc)
         _finish_step(q, dt, v_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc, n1)
         last_both = both
     acc[F_OUT] = (sums(s, F1, 0, alone) + sums(s, F1, last_both, n1)) / dt if soil else 0.0

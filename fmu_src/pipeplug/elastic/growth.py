@@ -55,14 +55,11 @@ import numpy as np
 
 from ..jit import jitable
 from .cells import (
-    D1,
-    D2,
     F1,
     F2,
     W2,
     accumulate,
     free_cells,
-    limit,
     plug_cells,
     plug_soil_cells,
     soil_cells,
@@ -70,7 +67,7 @@ from .cells import (
     soil_weight,
     sums,
 )
-from .face import front_cell
+from .face import book_step_friction, front_cell
 from .grid import _section, build_grid
 from .kernels import (
     C1,
@@ -80,11 +77,9 @@ from .kernels import (
     F_OUT,
     GROWTH,
     K2,
-    LIMITED,
     M1,
     M2,
     N_ACC,
-    _book_friction,
     _finish_step,
     _scratch,
     start_step,
@@ -211,17 +206,7 @@ def run_growth(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
                        dt * coef[C2], s)
         r2 = v2[front]
         front_cell(v1, N1, pv, pN, dt, own, c1 * soil_weight(front, start), on, s, acc)
-        outer = sums(s, D1, 0, alone) + sums(s, D1, both, n1)
-        inner = sums(s, D2, j0, n1)
-        if outer < 0.0 or inner < 0.0:
-            if soil:
-                limit(v1, pv, j0, s, 0, alone, j0, both, both, front)
-            else:
-                limit(v1, pv, j0, s, 0, 0, j0, front, 0, 0)
-            outer = sums(s, D1, 0, alone) + sums(s, D1, both, n1)
-            inner = sums(s, D2, j0, n1)
-            acc[LIMITED] += 1.0
-        _book_friction(acc, outer, inner)
+        book_step_friction(v1, pv, j0, s, alone, both, front, n1, soil, acc)
         accrete(v1, v2, acc, coef, dt, r2, s[W2, front] if d > 0 else 0.0, coupled)
         _finish_step(q, dt, v_old, v1, N1, pv, pN, coef, cells1, u1, cells2, u2, acc, n1)
         for k in range(j0, n1):
