@@ -117,6 +117,7 @@ FAMILIES = (("v_pipe", "v_plug"), ("u_pipe", "u_plug"), ("F_outer", "F_inner"), 
 _FAMILY_OF = {name: family for family in FAMILIES for name in family}
 _PER_STEP_COLUMNS = frozenset(COLUMN[name] for name in PER_STEP)
 _FORCES = ("F_outer", "F_inner")
+_FRICTION_WORKS = ("W_friction", "W_friction_outer", "W_friction_inner", "W_face", "W_damping")
 
 
 class Body(NamedTuple):
@@ -166,6 +167,21 @@ def _scale(*arrays) -> float:
     return max(float(np.max(np.abs(a), initial=0.0)) for a in arrays)
 
 
+def _worst(values) -> float:
+    """The largest of ``values``; NaN if any is NaN (Python's ``max`` keeps a NaN only when it
+    comes first, so a NaN later in a list would pass unseen)."""
+    return float(np.max(np.asarray(values, dtype=float), initial=0.0))
+
+
+def _column_errors(differences, scales) -> float:
+    """:func:`relative_error` of many columns at once: the largest ``differences[c] /
+    scales[c]`` (a difference of 0 is 0, a zero scale allows none), NaN if any is NaN."""
+    d, s = np.asarray(differences, dtype=float), np.asarray(scales, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratios = np.where(d == 0.0, 0.0, np.where(s > 0.0, d / s, np.inf))
+    return _worst(ratios)
+
+
 def reference_errors(rows, ref: dict, times, events, stop: float) -> dict[str, float]:
     """Values of the three reference checks for one run.
 
@@ -175,7 +191,7 @@ def reference_errors(rows, ref: dict, times, events, stop: float) -> dict[str, f
     """
     times = np.asarray(times)
     scale = {n: _scale(*(ref[m] for m in family)) for family in FAMILIES for n in family}
-    err = max(relative_error(rows[:, COLUMN[n]], ref[n], scale[n]) for n in CONTINUOUS)
+    err = _worst([relative_error(rows[:, COLUMN[n]], ref[n], scale[n]) for n in CONTINUOUS])
     switch = np.array(sorted(t for t, _ in events))
     window = 1e-9 * stop
     if switch.size:
@@ -185,8 +201,8 @@ def reference_errors(rows, ref: dict, times, events, stop: float) -> dict[str, f
         away = near > window
     else:
         away = np.ones(times.size, bool)
-    forces = max(relative_error(rows[away, COLUMN[n]], ref[n][away], scale[n])
-                 for n in _FORCES)
+    forces = _worst([relative_error(rows[away, COLUMN[n]], ref[n][away], scale[n])
+                     for n in _FORCES])
     modes = sum(int(np.count_nonzero(rows[away, COLUMN[n]] != ref[n][away]))
                 for n in ("pipe_mode", "plug_mode"))
     return {"reference": err, "reference forces": forces, "reference modes": float(modes)}
@@ -199,16 +215,18 @@ def grid_error(runs: list) -> float:
     PER_STEP`) depend on the grid by definition and are left out."""
     stack = np.stack(runs)
     scales = _family_scales(stack)
-    return max(relative_error(other[:, col], stack[0][:, col], scales[col])
-               for col in range(stack.shape[2]) if col not in _PER_STEP_COLUMNS
-               for other in stack[1:])
+    columns = [col for col in range(stack.shape[2]) if col not in _PER_STEP_COLUMNS]
+    differences = np.max(np.abs(stack[1:, :, columns] - stack[0][:, columns]), axis=(0, 1),
+                         initial=0.0)
+    return _column_errors(differences, [scales[col] for col in columns])
 
 
 def _family_scales(stack) -> list[float]:
     """Scale of each output column: the peak over ``stack[..., columns of its family]``."""
-    names = list(COLUMN)
-    return [_scale(*(stack[..., COLUMN[m]] for m in _FAMILY_OF.get(name, (name,))))
-            for name in names]
+    stack = np.asarray(stack)
+    peaks = np.max(np.abs(stack.reshape(-1, stack.shape[-1])), axis=0, initial=0.0)
+    return [max(float(peaks[COLUMN[m]]) for m in _FAMILY_OF.get(name, (name,)))
+            for name in COLUMN]
 
 
 def energy_error(rows, body: Body) -> float:
@@ -224,10 +242,9 @@ def energy_error(rows, body: Body) -> float:
 def friction_decrease(rows) -> float:
     """Largest decrease of a friction work between consecutive points (from 0 at t = 0),
     over the largest work."""
-    worst = 0.0
-    for name in ("W_friction", "W_friction_outer", "W_friction_inner", "W_face", "W_damping"):
-        steps = np.diff(np.concatenate([[0.0], rows[:, COLUMN[name]]]))
-        worst = max(worst, float(-np.min(steps, initial=0.0)))
+    works = rows[:, [COLUMN[name] for name in _FRICTION_WORKS]]
+    steps = np.diff(works, axis=0, prepend=0.0)
+    worst = _worst(-np.min(steps, axis=0, initial=0.0))
     return relative_error(worst, 0.0, _scale(*(rows[:, COLUMN[n]] for n in _WORKS)))
 
 
@@ -257,11 +274,11 @@ def limit_excess(rows, loads, body: Body) -> float:
     f_inner = np.abs(rows[:, c["F_inner"]])
     if body.plug:
         inner = body.F2 * (1.0 + body.J_shaft * np.abs(v1 - v2))
-        worst = max(worst, float(np.max((f_inner - inner) / body.F2, initial=0.0)))
-    return max(worst, 0.0)
+        worst = _worst([worst, float(np.max((f_inner - inner) / body.F2, initial=0.0))])
+    return worst
 
 
 def same_outputs_error(a, b) -> float:
     """Largest |a - b| / scale over all outputs (scales: the family peaks of ``b``)."""
-    scales = _family_scales(b)
-    return max(relative_error(a[:, col], b[:, col], scales[col]) for col in range(b.shape[1]))
+    differences = np.max(np.abs(np.asarray(a) - np.asarray(b)), axis=0, initial=0.0)
+    return _column_errors(differences, _family_scales(b))

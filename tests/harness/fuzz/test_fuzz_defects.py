@@ -81,6 +81,16 @@ def test_a_nan_output_fails(monkeypatch):
     assert not math.isfinite(summary.rows[("energy", "defect")][2])
 
 
+def test_a_nan_late_in_a_later_column_fails(monkeypatch):
+    """A NaN that Python's ``max`` would drop (not the first value it compares) still fails:
+    F_inner is neither the first column of the grid check nor the first limit checked."""
+    summary = _run(monkeypatch, skewed(lambda out, m: out._replace(
+        F_inner=math.nan if m.steps >= 3 else out.F_inner)), cases=5, plan=Plan(0, 0, 0))
+    assert summary.failures == 5
+    assert _failed(summary, "grid") == 5
+    assert _failed(summary, "static limits") == 5
+
+
 def test_a_claimed_rest_that_moves_is_caught(monkeypatch):
     summary = _run(monkeypatch, skewed(lambda out, m: out._replace(at_rest=out.v_pipe == 0.0)),
                    plan=Plan(0, 0, 0))
