@@ -212,3 +212,12 @@ def test_the_casing_drives_with_a_growing_plug_load_as_their_comments_derive_the
     assert clean.cleanouts.by == "penetration" and clean.cleanouts.at == (plug.target / 2,)
     assert clean.start_values == {**start, "L2_after_cleanout": 0.0}
     assert clean.hammer == plug.hammer and clean.target == plug.target
+
+
+def test_the_plug_ratio_axis_is_logarithmic_only_over_more_than_a_decade():
+    """A fixed plug's L2/s falls from 17 m / 0.3 m to 1 (log10 56.7 = 1.75 decades: a log
+    axis); a growing plug's stays near 1 (0.98-1.003: a linear one); gaps do not count."""
+    from pipeplug_harness.drive.plots import _decades
+    assert _decades(np.array([17.0 / 0.3, np.nan, 1.0])) == pytest.approx(math.log10(17 / 0.3))
+    assert _decades(np.array([0.98, 1.003, np.nan])) < 1.0
+    assert _decades(np.array([np.nan, 2.0])) == 0.0
