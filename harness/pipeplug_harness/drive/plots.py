@@ -74,6 +74,14 @@ def _defined(values) -> np.ndarray:
     return np.array([np.nan if v is None else v for v in values], dtype=float)
 
 
+def _decades(values: np.ndarray) -> float:
+    """How many decades the positive, defined values span (0 with fewer than two)."""
+    positive = values[np.isfinite(values) & (values > 0.0)]
+    if positive.size < 2:
+        return 0.0
+    return float(np.log10(positive.max() / positive.min()))
+
+
 def plot_plug(path: Path, result: DriveResult) -> Path:
     """Against penetration: the plug's length and L2/s; each blow's IFR, coring or plugged;
     each blow's metres per hour at the blow rate and the drive's overall. Ratios that are not
@@ -85,10 +93,11 @@ def plot_plug(path: Path, result: DriveResult) -> Path:
     top.set_ylabel("plug length L2 [m]")
     top.set_ylim(0.0, 1.15 * max([b.L2 for b in blows] + [1e-3]))
     ratio = top.twinx()
-    ratio.plot(depth, _defined(b.plr for b in blows), color="C2", lw=1.0, ls="--",
-               label="L2/s")
+    plr = _defined(b.plr for b in blows)
+    ratio.plot(depth, plr, color="C2", lw=1.0, ls="--", label="L2/s")
     ratio.set_ylabel("plug length ratio L2/s [1]")
-    ratio.set_yscale("log")
+    if _decades(plr) > 1.0:           # a fixed plug's L2/s falls from L2/(first set) to L2/s
+        ratio.set_yscale("log")
     top.legend(handles=top.get_lines() + ratio.get_lines(), fontsize=8, loc="center right")
     ifr = _defined(b.ifr for b in blows)
     for label, color in (("coring", "C3"), ("plugged", "C0")):

@@ -3,6 +3,7 @@ hour) and its clean-outs: the file's rules, the refusal by an FMU without the in
 blows they fall on."""
 import csv
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -183,3 +184,40 @@ def test_clean_outs_through_the_fmu(run_drive):
     assert third["L2"] <= 0.1 + third["set"] * (1.0 + 1e-9) < blows[1]["L2"]
     assert third["works"]["W_removed"] > 0.0
     assert all(math.isfinite(b["ifr"]) for b in blows if b["set"] != 0.0)
+
+
+DRIVES = Path(__file__).resolve().parents[3] / "scenes" / "drives"
+SOIL_KEYS = ("L2", "plug_growth", "q_face", "q_plug_face")     # what the plug's drives add
+
+
+def test_the_casing_drives_with_a_growing_plug_load_as_their_comments_derive_them():
+    """The two files load (the core builds their model: ram, end resistance and a growing plug
+    together), start empty, take the unit end bearing Nq p'o of the API method for medium dense
+    sand (Nq = 20) at the overburden stress of the casing's axis (rho2 g z, z = 5.5 ft below the
+    tie plus half the 24-in diameter) on both faces, keep every other value of the ram drive, and
+    the second differs from the first by its one clean-out at mid-length only."""
+    ram = load_drive(DRIVES / "casing_24in_17m_ram.toml")
+    plug = load_drive(DRIVES / "casing_24in_17m_ram_plug.toml")
+    clean = load_drive(DRIVES / "casing_24in_17m_ram_plug_cleanout.toml")
+    z = 5.5 * 0.3048 + 24 * 0.0254 / 2
+    q = 20.0 * 2000.0 * 9.81 * z
+    start = plug.start_values
+    assert start["q_face"] == start["q_plug_face"] == pytest.approx(q, rel=1e-5)
+    assert start["L2"] == 0.0 and start["plug_growth"] is True
+    assert plug.cleanouts is None
+    assert {k: v for k, v in start.items() if k not in SOIL_KEYS} == {
+        k: v for k, v in ram.start_values.items() if k not in SOIL_KEYS}
+    assert (plug.hammer, plug.target, plug.refusal_length, plug.yield_stress) == (
+        ram.hammer, ram.target, ram.refusal_length, ram.yield_stress)
+    assert clean.cleanouts.by == "penetration" and clean.cleanouts.at == (plug.target / 2,)
+    assert clean.start_values == {**start, "L2_after_cleanout": 0.0}
+    assert clean.hammer == plug.hammer and clean.target == plug.target
+
+
+def test_the_plug_ratio_axis_is_logarithmic_only_over_more_than_a_decade():
+    """A fixed plug's L2/s falls from 17 m / 0.3 m to 1 (log10 56.7 = 1.75 decades: a log
+    axis); a growing plug's stays near 1 (0.98-1.003: a linear one); gaps do not count."""
+    from pipeplug_harness.drive.plots import _decades
+    assert _decades(np.array([17.0 / 0.3, np.nan, 1.0])) == pytest.approx(math.log10(17 / 0.3))
+    assert _decades(np.array([0.98, 1.003, np.nan])) < 1.0
+    assert _decades(np.array([np.nan, 2.0])) == 0.0
