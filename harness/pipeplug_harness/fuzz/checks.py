@@ -167,7 +167,7 @@ def _scale(*arrays) -> float:
     return max(float(np.max(np.abs(a), initial=0.0)) for a in arrays)
 
 
-def _worst(values) -> float:
+def worst_of(values) -> float:
     """The largest of ``values``; NaN if any is NaN (Python's ``max`` keeps a NaN only when it
     comes first, so a NaN later in a list would pass unseen)."""
     return float(np.max(np.asarray(values, dtype=float), initial=0.0))
@@ -179,7 +179,7 @@ def _column_errors(differences, scales) -> float:
     d, s = np.asarray(differences, dtype=float), np.asarray(scales, dtype=float)
     with np.errstate(divide="ignore", invalid="ignore"):
         ratios = np.where(d == 0.0, 0.0, np.where(s > 0.0, d / s, np.inf))
-    return _worst(ratios)
+    return worst_of(ratios)
 
 
 def reference_errors(rows, ref: dict, times, events, stop: float) -> dict[str, float]:
@@ -191,7 +191,7 @@ def reference_errors(rows, ref: dict, times, events, stop: float) -> dict[str, f
     """
     times = np.asarray(times)
     scale = {n: _scale(*(ref[m] for m in family)) for family in FAMILIES for n in family}
-    err = _worst([relative_error(rows[:, COLUMN[n]], ref[n], scale[n]) for n in CONTINUOUS])
+    err = worst_of([relative_error(rows[:, COLUMN[n]], ref[n], scale[n]) for n in CONTINUOUS])
     switch = np.array(sorted(t for t, _ in events))
     window = 1e-9 * stop
     if switch.size:
@@ -201,7 +201,7 @@ def reference_errors(rows, ref: dict, times, events, stop: float) -> dict[str, f
         away = near > window
     else:
         away = np.ones(times.size, bool)
-    forces = _worst([relative_error(rows[away, COLUMN[n]], ref[n][away], scale[n])
+    forces = worst_of([relative_error(rows[away, COLUMN[n]], ref[n][away], scale[n])
                      for n in _FORCES])
     modes = sum(int(np.count_nonzero(rows[away, COLUMN[n]] != ref[n][away]))
                 for n in ("pipe_mode", "plug_mode"))
@@ -244,7 +244,7 @@ def friction_decrease(rows) -> float:
     over the largest work."""
     works = rows[:, [COLUMN[name] for name in _FRICTION_WORKS]]
     steps = np.diff(works, axis=0, prepend=0.0)
-    worst = _worst(-np.min(steps, axis=0, initial=0.0))
+    worst = worst_of(-np.min(steps, axis=0, initial=0.0))
     return relative_error(worst, 0.0, _scale(*(rows[:, COLUMN[n]] for n in _WORKS)))
 
 
@@ -274,7 +274,7 @@ def limit_excess(rows, loads, body: Body) -> float:
     f_inner = np.abs(rows[:, c["F_inner"]])
     if body.plug:
         inner = body.F2 * (1.0 + body.J_shaft * np.abs(v1 - v2))
-        worst = _worst([worst, float(np.max((f_inner - inner) / body.F2, initial=0.0))])
+        worst = worst_of([worst, float(np.max((f_inner - inner) / body.F2, initial=0.0))])
     return worst
 
 

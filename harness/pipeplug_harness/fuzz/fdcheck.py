@@ -64,7 +64,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .cases import Case, edges_of, loads_on
-from .checks import CONTINUOUS, Body
+from .checks import CONTINUOUS, Body, worst_of
 from .runners import COLUMN, run_grid, run_reference
 
 __all__ = ["FdResult", "fd_measure", "fd_grid", "grazing", "mode_sequence", "N0",
@@ -117,8 +117,8 @@ def fd_measure(case: Case, exact, fd, events) -> FdResult:
                              options={"solver": "fd", "contact_growth": case.growth})
         each = {name: _error(approx[:, COLUMN[name]], ex[:, COLUMN[name]],
                              rates[_FAMILY.get(name, 2)] * growth) for name in CONTINUOUS}
-        errors.append(max(each.values()))
-        works.append(max(each[name] for name in CONTINUOUS if name not in _FAMILY))
+        errors.append(worst_of(list(each.values())))
+        works.append(worst_of([each[name] for name in CONTINUOUS if name not in _FAMILY]))
         steps.append(dt)
         n += len(grid) - 1
         if level + 1 < LEVELS:
