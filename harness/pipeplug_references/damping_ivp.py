@@ -41,7 +41,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from .face_ivp import FaceSystem
+from .face_ivp import FaceSystem, candidate_modes
 from .rigid_ivp import ATOL_FACTOR, FORCE_SLACK, MAX_EVENTS, MAX_STALLED, RTOL, _validate
 
 __all__ = ["simulate_damped", "OUTPUT_NAMES", "MAX_STEP_RATE"]
@@ -135,21 +135,7 @@ def _decide(s, q, y, forced):
     d2 = -s.js * c2 * y[_W]
     d3 = -s.jf * qp * max(v2, 0.0)
     slack = FORCE_SLACK * (abs(q) + c1 + qf + c2 + qp + abs(d1) + abs(d2) + abs(d3))
-    cands = []
-    for p in ((0, 1, -1) if ps == 0 else (ps,)):
-        for r in (((0, 1, -1) if rs == 0 else (rs,)) if s.plug else (0,)):
-            if not s.plug:
-                g_ok = (0,)
-            elif r == 0:
-                g_ok = (p,)
-            elif p == 0:
-                g_ok = (-r,)
-            elif p != r:
-                g_ok = (p,)
-            else:
-                g_ok = (0, 1, -1)
-            cands += [(p, r, g) for g in g_ok if not (s.plug and gs != 0 and g != gs)]
-    cands.sort(key=lambda c: (c[0] != 0) + (c[1] != 0) + 0.5 * (c[2] != 0))
+    cands = candidate_modes(s.plug, ps, rs, gs)
     for p, r, g in cands:
         fp = -(c1 + qf) if p > 0 else (c1 if p < 0 else 0.0)     # sliding Coulomb parts
         fr = -r * c2

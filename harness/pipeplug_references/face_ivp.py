@@ -28,7 +28,6 @@ Independence: numpy and scipy only, nothing of the project's core.
 from __future__ import annotations
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from .rigid_ivp import (
     ATOL_FACTOR,
@@ -39,6 +38,10 @@ from .rigid_ivp import (
     SNAP_VTOL,
     System,
     _validate,
+    add_kinks,
+    add_stops,
+    event_list,
+    integrate_piece,
 )
 
 __all__ = ["simulate_face", "face_modes", "FaceSystem", "OUTPUT_NAMES"]
@@ -78,6 +81,33 @@ def _pipe_face(s: FaceSystem, p: int, u1: float) -> float:
     return -s.qf_at(u1) if p > 0 else 0.0
 
 
+def candidate_modes(plug: bool, ps: int, rs: int, gs: int) -> list[tuple[int, int, int]]:
+    """The modes ``(p, r, g)`` (signs of U1', U1' - U2', U2'; 0: stuck) that agree with the
+    fixed signs ``ps, rs, gs`` (0: free), stuck contacts first.
+
+    The plug's own sign follows from the other two where they fix it: carried (r = 0) it moves
+    with the pipe, under a stuck pipe it moves against the slip, with the pipe and the slip of
+    opposite signs it moves with the pipe; only a plug slower than a pipe moving the same way
+    may move either way or rest.
+    """
+    cands = []
+    for p in ((0, 1, -1) if ps == 0 else (ps,)):
+        for r in (((0, 1, -1) if rs == 0 else (rs,)) if plug else (0,)):
+            if not plug:
+                g_ok = (0,)
+            elif r == 0:
+                g_ok = (p,)
+            elif p == 0:
+                g_ok = (-r,)
+            elif p != r:
+                g_ok = (p,)
+            else:
+                g_ok = (0, 1, -1)
+            cands += [(p, r, g) for g in g_ok if not (plug and gs != 0 and g != gs)]
+    cands.sort(key=lambda c: (c[0] != 0) + (c[1] != 0) + 0.5 * (c[2] != 0))
+    return cands
+
+
 def face_modes(s: FaceSystem, q: float, u1: float, ps: int, rs: int, gs: int):
     """The modes ``(p, r, g)`` starting now, and the static forces of a stuck pipe
     ``(f1 soil on pipe, f2 plug on pipe, e3 soil on plug)`` [N] (0 where sliding).
@@ -88,24 +118,7 @@ def face_modes(s: FaceSystem, q: float, u1: float, ps: int, rs: int, gs: int):
     c1, c2, m1, m2, qp = s.c1(u1), s.c2, s.M1, s.M2, s.qp
     qf = s.qf_at(u1)
     slack = FORCE_SLACK * (abs(q) + c1 + qf + c2 + qp)
-    cands = []
-    for p in ((0, 1, -1) if ps == 0 else (ps,)):
-        for r in (((0, 1, -1) if rs == 0 else (rs,)) if s.plug else (0,)):
-            if not s.plug:
-                gs_ok = (0,)
-            elif r == 0:
-                gs_ok = (p,)
-            elif p == 0:
-                gs_ok = (-r,)
-            elif p != r:
-                gs_ok = (p,)
-            else:
-                gs_ok = (0, 1, -1)
-            for g in gs_ok:
-                if s.plug and gs != 0 and g != gs:
-                    continue
-                cands.append((p, r, g))
-    cands.sort(key=lambda c: (c[0] != 0) + (c[1] != 0) + 0.5 * (c[2] != 0))
+    cands = candidate_modes(s.plug, ps, rs, gs)
     forced = set()
     for p, r, g in cands:
         f1 = f2 = e3 = 0.0
@@ -168,20 +181,8 @@ def _accelerations(s, q, mode, u1, u_start):
 
 def _events(s, q, mode, t0, y0):
     p, r, g = mode
-    evs = []
-
-    def add(fun, direction, name):
-        def event(t, y):
-            v = fun(y)
-            return -direction * 1e-300 if v == 0.0 and t == t0 else v
-
-        event.terminal, event.direction, event.name = True, direction, name
-        evs.append(event)
-
-    if p != 0:
-        add(lambda y: y[1], -p, "pipe stops")
-    if r != 0:
-        add(lambda y: y[1] - y[3], -r, "plug sticks")
+    evs, add = event_list(t0)
+    add_stops(add, p, r)
     if p != 0 and r != 0 and g != 0 and s.qp > 0.0:
         add(lambda y: y[3], -g, "plug stops")
     if p != 0 and r == 0 and s.plug and s.dc1(y0[0], p) > 0.0:
@@ -194,10 +195,7 @@ def _events(s, q, mode, t0, y0):
         add(lambda y: s.c2 - required(y), -1, "plug breaks away forward")
         add(lambda y: s.c2 + required(y), -1, "plug breaks away backward")
     if p != 0 and s.kinks():
-        u = y0[0]
-        for kink, name in ((0.0, "U1 reaches 0"), (s.L1, "U1 reaches L1")):
-            if (p > 0 and u < kink) or (p < 0 and u > kink):
-                add(lambda y, kink=kink: y[0] - kink, p, name)
+        add_kinks(add, p, y0[0], s.L1)
     return evs
 
 
@@ -211,29 +209,7 @@ def _piece(s, q, mode, t, tb, y0, samples, rtol, atol):
         a1, a2 = _accelerations(s, q, mode, y[0], u_start)
         return (y[1], a1, y[3], a2)
 
-    bound = tb
-    for attempt in range(2):
-        t_eval = np.append(samples[samples < bound], bound)
-        sol = solve_ivp(rhs, (t, bound), y0, method="DOP853", t_eval=t_eval,
-                        events=evs or None, rtol=rtol, atol=atol)
-        if sol.status < 0:
-            raise RuntimeError(f"integration failed at t = {t!r}: {sol.message}")
-        if sol.status == 1:
-            i = next(i for i, te in enumerate(sol.t_events) if len(te))
-            t_end, y_end, fired = (float(sol.t_events[i][-1]), sol.y_events[i][-1].copy(),
-                                   evs[i].name)
-        elif attempt == 0:
-            t_end, y_end, fired = tb, sol.y[:, -1].copy(), None
-        else:
-            t_end, y_end = bound, sol.y[:, -1].copy()
-        if attempt or t_end == t:
-            break
-        hidden = [e.name for e in evs if e.name != fired and e.direction * e(t, y0) < 0.0
-                  and e.direction * e(t_end, y_end) >= 0.0]
-        if not hidden:
-            break
-        bound = t_end
-    return t_end, y_end, fired, sol
+    return integrate_piece(rhs, evs, t, tb, y0, samples, rtol, atol)
 
 
 def simulate_face(params: dict, segments: list, times, contact_growth: bool, *,

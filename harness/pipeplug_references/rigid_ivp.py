@@ -316,20 +316,8 @@ def _events(s: System, q: float, p: int, r: int, t0: float, y0):
     reads as a tiny value on the side it starts from there: otherwise the root search of a first step
     that contains the real crossing would return t0 itself.
     """
-    evs = []
-
-    def add(fun, direction, name):
-        def event(t, y):
-            g = fun(y)
-            return -direction * 1e-300 if g == 0.0 and t == t0 else g
-
-        event.terminal, event.direction, event.name = True, direction, name
-        evs.append(event)
-
-    if p != 0:
-        add(lambda y: y[1], -p, "pipe stops")
-    if r != 0:
-        add(lambda y: y[1] - y[3], -r, "plug sticks")
+    evs, add = event_list(t0)
+    add_stops(add, p, r)
     if p != 0 and r == 0 and s.plug and s.dc1(y0[0], p) > 0.0:
         m, m2, c2 = s.M1 + s.M2, s.M2, s.c2
         slope, offset = s.branch(y0[0], p)
@@ -340,11 +328,42 @@ def _events(s: System, q: float, p: int, r: int, t0: float, y0):
         add(lambda y: c2 - required(y), -1, "plug breaks away forward")
         add(lambda y: c2 + required(y), -1, "plug breaks away backward")
     if p != 0 and s.varying:
-        u = y0[0]
-        for kink, name in ((0.0, "U1 reaches 0"), (s.L1, "U1 reaches L1")):
-            if (p > 0 and u < kink) or (p < 0 and u > kink):
-                add(lambda y, kink=kink: y[0] - kink, p, name)
+        add_kinks(add, p, y0[0], s.L1)
     return evs
+
+
+def event_list(t0: float):
+    """An empty list of terminal events of a piece starting at ``t0`` [s], and the function
+    ``add(fun, direction, name)`` that appends the event ``fun(y)`` to it (see :func:`_events`
+    for the value it reads at ``t0``)."""
+    evs = []
+
+    def add(fun, direction, name):
+        def event(t, y):
+            g = fun(y)
+            return -direction * 1e-300 if g == 0.0 and t == t0 else g
+
+        event.terminal, event.direction, event.name = True, direction, name
+        evs.append(event)
+
+    return evs, add
+
+
+def add_stops(add, p: int, r: int) -> None:
+    """The events of a sliding pipe stopping (``p`` != 0) and of a slipping plug sticking
+    (``r`` != 0): the state is (U1, U1', U2, U2', ...)."""
+    if p != 0:
+        add(lambda y: y[1], -p, "pipe stops")
+    if r != 0:
+        add(lambda y: y[1] - y[3], -r, "plug sticks")
+
+
+def add_kinks(add, p: int, u: float, L1: float) -> None:
+    """Model II's kinks ahead of a pipe at ``u`` [m] moving the way of ``p``: the contact
+    length min(max(U1, 0), L1) changes law at U1 = 0 and U1 = L1 [m]."""
+    for kink, name in ((0.0, "U1 reaches 0"), (L1, "U1 reaches L1")):
+        if (p > 0 and u < kink) or (p < 0 and u > kink):
+            add(lambda y, kink=kink: y[0] - kink, p, name)
 
 
 def _piece(s: System, q: float, p: int, r: int, t: float, tb: float, y0, samples, rtol, atol):
@@ -358,8 +377,14 @@ def _piece(s: System, q: float, p: int, r: int, t: float, tb: float, y0, samples
     one way), so such a crossing shows as a sign change between the piece's start and end states; then
     the piece is integrated again with its end as bound, where every step end lies inside the piece.
     """
-    evs = _events(s, q, p, r, t, y0)
-    rhs = _rhs(s, q, p, r, y0[0])
+    return integrate_piece(_rhs(s, q, p, r, y0[0]), _events(s, q, p, r, t, y0), t, tb, y0,
+                           samples, rtol, atol)
+
+
+def integrate_piece(rhs, evs, t: float, tb: float, y0, samples, rtol, atol):
+    """Integrate ``rhs`` from (t, y0) until the first of the terminal events ``evs`` or tb,
+    with DOP853, sampled at ``samples`` [s]; the second pass of :func:`_piece` when a crossing
+    hides inside a step past the piece's end."""
     bound = tb
     for attempt in range(2):
         t_eval = np.append(samples[samples < bound], bound)
