@@ -18,13 +18,14 @@ time and space, as the scheme's friction.
 
 Energy. The scheme pairs every impulse on a cell with its mean velocity over the step
 (:mod:`pipeplug.elastic.cells`), the dampers' too: a contact's whole impulse (Coulomb plus
-damper, both against the motion) does the work ``-F (r + x) / 2``. The step limits those
-totals as the undamped kernels limit their friction (:func:`pipeplug.elastic.cells.limit`, the
-front cell's windows of :mod:`pipeplug.elastic.face`), so no contact's work is negative; each
-work is then split between the Coulomb part (``W_friction``, ``W_face``) and the damper
-(``W_damping``) in the ratio of their impulses, which act with the same mean velocity. So
-W_damping never decreases and the ledger ``W_input (+ W_ram) = E_kinetic + E_strain +
-W_friction (+ W_cushion) + W_face + W_damping`` closes to round-off as without damping.
+damper, both against the motion) does the work ``-F (r + x) / 2``, split between the Coulomb
+part (``W_friction``, ``W_face``) and the damper (``W_damping``) in the ratio of their
+impulses, which act with the same mean velocity. A step in which a sum of those parts over
+the rods would be negative takes back shares of the whole impulses as the undamped kernels do
+(:func:`pipeplug.elastic.cells.limit`, :func:`book_damped_step`; the front cell's windows of
+:mod:`pipeplug.elastic.face`), after which no cell's work is negative. So the works never
+decrease and the ledger ``W_input (+ W_ram) = E_kinetic + E_strain + W_friction (+ W_cushion)
++ W_face + W_damping`` closes to round-off as without damping.
 ``F_outer`` and ``F_inner`` are the whole resistances of shaft and plug, dampers included.
 
 One kernel for every combination of the other effects (:func:`run_damped`: soil friction,
@@ -280,24 +281,35 @@ def _parts(s, work, damper, lo, hi):
 
 
 @jitable
+def _split_works(s, alone, both, j0, n1):
+    """The step's works [J] at the soil and the plug, each split into its Coulomb part and its
+    dampers' (:func:`_parts`): ``(outer, outer_damped, inner, inner_damped)``."""
+    outer_a, damped_a = _parts(s, D1, G1, 0, alone)
+    outer_b, damped_b = _parts(s, D1, G1, both, n1)
+    inner, inner_damped = _parts(s, D2, G2, j0, n1)
+    return outer_a + outer_b, damped_a + damped_b, inner, inner_damped
+
+
+@jitable
 def book_damped_step(v1, v2, j0, s, alone, both, front, n1, soil, acc):
-    """Book one step's works [J] (as :func:`pipeplug.elastic.face.book_step_friction`, on the
-    contacts' whole works): a contact whose work summed over the rods is negative is limited
-    first; then each cell's work is split into its Coulomb part (W_friction) and its
-    damper's (W_damping)."""
-    outer = sums(s, D1, 0, alone) + sums(s, D1, both, n1)
-    inner = sums(s, D2, j0, n1)
-    if outer < 0.0 or inner < 0.0:
+    """Book one step's works [J] (as :func:`pipeplug.elastic.face.book_step_friction`): the
+    Coulomb part of each contact's work summed over the rods to W_friction, the dampers' to
+    W_damping. A step in which any of the four sums is negative is limited first
+    (:func:`pipeplug.elastic.cells.limit` on the contacts' whole impulses): afterwards every
+    cell's whole work at each contact is >= 0, and so is each of its parts. (Limiting on the
+    whole works alone is not enough: a stuck cell whose kick reversed it books a negative
+    Coulomb work and no damper's, which the sliding cells' dampers may outweigh in the whole
+    sum but not in its Coulomb part.)"""
+    outer, outer_damped, inner, inner_damped = _split_works(s, alone, both, j0, n1)
+    if min(outer, outer_damped, inner, inner_damped) < 0.0:
         if soil:
             limit(v1, v2, j0, s, 0, alone, j0, both, both, front)
         else:
             limit(v1, v2, j0, s, 0, 0, j0, front, 0, 0)
+        outer, outer_damped, inner, inner_damped = _split_works(s, alone, both, j0, n1)
         acc[LIMITED] += 1.0
-    outer_a, damped_a = _parts(s, D1, G1, 0, alone)
-    outer_b, damped_b = _parts(s, D1, G1, both, n1)
-    inner, damped_c = _parts(s, D2, G2, j0, n1)
-    _book_friction(acc, outer_a + outer_b, inner)
-    accumulate(acc, W_DAMPING, W_DAMPING_ERROR, max(damped_a + damped_b + damped_c, 0.0))
+    _book_friction(acc, outer, inner)
+    accumulate(acc, W_DAMPING, W_DAMPING_ERROR, max(outer_damped + inner_damped, 0.0))
 
 
 @jitable
