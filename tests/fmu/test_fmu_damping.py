@@ -58,7 +58,7 @@ def test_a_damped_sliding_pipe_through_the_fmu_is_the_closed_form(fmu_dir):
 
 def test_the_elastic_model_with_damping_runs_through_the_fmu_near_the_rigid_closed_form(fmu_dir):
     # A steel pipe of 1 m rings for 0.4 ms per round trip: over a blow of 50 ms it moves as
-    # the rigid pipe to within the scheme's first-order error (2e-3 at dx = 0.1 m). The FMU's
+    # the rigid pipe to within the scheme's first-order error (1e-3 at dx = 0.1 m). The FMU's
     # plain-Python path (its compiled one gives the same bits; its compilation is the elastic
     # fuzz's to pay, not a test's).
     params = dict(PARAMS, elastic=True, dx=0.1, x_monitor=0.0)
