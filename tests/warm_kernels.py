@@ -30,6 +30,9 @@ def run_every_kind(core) -> None:
                       {"elastic": True, "contact_growth": growth})
     steps({"tau1": 2e4, "ram_mass": 50.0}, {}, 3.0)
     steps({"tau1": 2e4, "ram_mass": 50.0, "dx": 0.05}, {"elastic": True}, 3.0)
+    # Smith damping's kernel: the damping tests, the fuzz's Dask workers and its FMU cases
+    # (seeds 201:0 and 202:125) would each compile it
+    steps({"tau1": 2e4, "L2": 1.0, "dx": 0.05, "J_shaft": 0.5}, {"elastic": True})
     importlib.import_module(core.__name__ + ".batch").blows({"tau1": 2e4})
 
 

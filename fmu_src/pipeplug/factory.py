@@ -157,23 +157,25 @@ def _check_face(params: Params, options: Options) -> None:
 
 
 def _check_damping(params: Params, options: Options) -> None:
-    """Refuse Smith damping where a model does not carry it: with a ram in the rigid models,
-    and in model II's exact solver (the shaft's damping force J_shaft P1 tau1 U1 U1' is not
-    linear: no closed-form pieces; the fd scheme carries it)."""
+    """Refuse Smith damping where a model does not carry it: with a growing plug (neither
+    solver of it carries damping), with a ram in the rigid models, and in model II's exact
+    solver (the shaft's damping force J_shaft P1 tau1 U1 U1' is not linear: no closed-form
+    pieces; the fd scheme carries it). The elastic model carries it with every other effect."""
     name = "J_shaft" if params.J_shaft > 0.0 else "J_face"
     value = getattr(params, name)
-    if options.elastic:
-        raise ParameterError(name, value, "0 in the elastic model (elastic = true): the "
-                             "rigid models carry Smith damping")
-    if params.has_ram:
-        raise ParameterError(name, value, "0 with a ram (ram_mass > 0) in the rigid models")
     if options.plug_growth:
-        raise ParameterError(name, value, "0 with plug_growth (the growing plug's solver "
-                             "carries no damping)")
+        raise ParameterError(name, value, "0 with plug_growth (the growing plug's solvers, "
+                             "rigid and elastic, carry no damping)")
+    if options.elastic:
+        return
+    if params.has_ram:
+        raise ParameterError(name, value, "0 with a ram (ram_mass > 0) in the rigid models "
+                             "(the elastic model carries both)")
     if options.contact_growth and options.solver == "exact":
         raise ParameterError(name, value, "0 with contact_growth and solver = 'exact' (model "
                              "II's damped shaft friction J_shaft P1 tau1 U1 U1' is not linear, "
-                             "so its pieces are not in closed form; solver = 'fd' carries it)")
+                             "so its pieces are not in closed form; solver = 'fd' and the "
+                             "elastic model carry it)")
 
 
 def _check_growth(params: Params, options: Options) -> None:

@@ -21,16 +21,24 @@ problem of at most two unknowns, tested from the most stuck to the least (a stuc
 no damping force, so the all-stuck one is :func:`~pipeplug.contact.face.face_pattern`'s).
 Without end resistance ``c1p = c1m``, ``c3p = a3p = 0``.
 
-A model without damping never calls this: the effect switched off is absent. Scalars only.
+A model without damping never calls this: the effect switched off is absent. Scalars only,
+so that compiled kernels call them too (:func:`pipeplug.jit.jitable`: the elastic model's
+damped cells, :mod:`pipeplug.elastic.damped`).
 """
 from __future__ import annotations
 
+from ..jit import jitable
 from .coulomb import SLACK
 from .face import PATTERNS, face_pattern, sliding_force
+
+_S1 = tuple(p[0] for p in PATTERNS)
+_S2 = tuple(p[1] for p in PATTERNS)
+_S3 = tuple(p[2] for p in PATTERNS)
 
 __all__ = ["damped_contacts", "damped_pattern", "damped_one"]
 
 
+@jitable
 def damped_one(m, w, cp, cm, ap, am, slack):
     """One body on a fixed support with the window ``[-cp, cm]`` and the dampers ``ap``
     (advancing) and ``am`` (retreating), in the units of ``m w``.
@@ -50,6 +58,7 @@ def damped_one(m, w, cp, cm, ap, am, slack):
     return x, cm, -am * x
 
 
+@jitable
 def damped_contacts(m1, m2, w1, w2, c1p, c1m, c2, c3p, a1p, a1m, d2, a3p, slack):
     """Solve the joint problem of the module docstring.
 
@@ -80,22 +89,24 @@ def damped_contacts(m1, m2, w1, w2, c1p, c1m, c2, c3p, a1p, a1m, d2, a3p, slack)
         The sign pattern; 0 means stuck.
     """
     scale = max(SLACK * (abs(m1 * w1) + abs(m2 * w2) + c1p + c1m + c2 + c3p), slack)
-    best, best_violation = 0, 0.0
-    for k, (s1, s2, s3) in enumerate(PATTERNS):
-        *_, violation = damped_pattern(m1, m2, w1, w2, c1p, c1m, c2, c3p, a1p, a1m, d2, a3p,
-                                       s1, s2, s3)
+    best = 0
+    best_violation = 0.0
+    for k in range(13):
+        violation = damped_pattern(m1, m2, w1, w2, c1p, c1m, c2, c3p, a1p, a1m, d2, a3p,
+                                   _S1[k], _S2[k], _S3[k])[8]
         if violation <= scale:
             best = k
             break
         if k == 0 or violation < best_violation:
             best, best_violation = k, violation
-    s1, s2, s3 = PATTERNS[best]
+    s1, s2, s3 = _S1[best], _S2[best], _S3[best]
     x1, x2, f1, f2, f3, g1, g2, g3, _ = damped_pattern(m1, m2, w1, w2, c1p, c1m, c2, c3p, a1p,
                                                        a1m, d2, a3p, s1, s2, s3)
     return (x1, x2, min(max(f1, -c1p), c1m), min(max(f2, -c2), c2), min(max(f3, -c3p), 0.0),
             g1, g2, g3, s1, s2, s3)
 
 
+@jitable
 def damped_pattern(m1, m2, w1, w2, c1p, c1m, c2, c3p, a1p, a1m, d2, a3p, s1, s2, s3):
     """Rates and forces of the pattern ``(s1, s2, s3)`` and how far it violates its conditions
     (<= 0: consistent): ``(x1, x2, f1, f2, f3, g1, g2, g3, violation)``."""

@@ -15,7 +15,23 @@ import numpy as np
 from ..interface import profile_sections
 from ..params import ParameterError
 from .head import stable_cushion
-from .kernels import C1, C2, DX, K1, K2, K_LOAD, K_UNLOAD, M1, M2, N_COEF, QF, QP, RAM_MASS
+from .kernels import (
+    C1,
+    C2,
+    DX,
+    JF,
+    JS,
+    K1,
+    K2,
+    K_LOAD,
+    K_UNLOAD,
+    M1,
+    M2,
+    N_COEF,
+    QF,
+    QP,
+    RAM_MASS,
+)
 
 __all__ = ["Section", "Grid", "build_grid", "cell_count"]
 
@@ -108,6 +124,7 @@ def build_grid(params, profile_points: int = 0, plug: bool | None = None) -> Gri
         coef[M2], coef[K2], coef[C2] = p.rho2 * p.S2 * dx, p.E2 * p.S2 / dx, p.P2 * p.tau2 * dx
         speed = max(speed, p.c2)
     coef[QF], coef[QP] = p.F_face, (p.F_plug_face if simulated else 0.0)
+    coef[JS], coef[JF] = p.J_shaft, p.J_face
     h_max = p.courant * dx / speed
     if p.has_ram:
         _ram_coefficients(p, coef, h_max)

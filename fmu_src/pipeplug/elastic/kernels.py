@@ -61,7 +61,9 @@ M1, K1, M2, K2, C1, C2, DX, RAM_MASS, K_LOAD, K_UNLOAD = range(10)
 # End resistance (:mod:`pipeplug.elastic.face`): Qf = q_face S1 and Qp = q_plug_face S2 [N] (0
 # without a plug), and 1.0 with contact growth (the annulus meets the soil from U >= 0 on).
 QF, QP, GROWTH = range(10, 13)
-N_COEF = 13
+# Smith damping (:mod:`pipeplug.elastic.damped`): J_shaft and J_face [s/m].
+JS, JF = 13, 14
+N_COEF = 15
 # acc: W_input [J], friction work at the soil and at the plug contact [J] (each the sum of
 # acc[i] and its rounding error acc[i + COMPENSATION]); the last step's soil and plug friction
 # forces on the pipe along +x [N]; the number of steps that took back a share of a projection
@@ -79,7 +81,8 @@ RAM = 11
 N_MIN, N_MAX = 17, 18
 W_RAM = 19                # the energy strikes brought [J] (pipeplug.elastic.model.strike)
 W_FACE, W_FACE_ERROR = 20, 21   # work against the end resistance [J] and its rounding error
-N_ACC = 22
+W_DAMPING, W_DAMPING_ERROR = 22, 23   # work of the Smith dampers [J] and its rounding error
+N_ACC = 24
 
 
 @jitable

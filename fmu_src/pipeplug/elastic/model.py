@@ -81,6 +81,8 @@ from .kernels import (
     RAM_MASS,
     W_CUSHION,
     W_CUSHION_ERROR,
+    W_DAMPING,
+    W_DAMPING_ERROR,
     W_FACE,
     W_FACE_ERROR,
     W_IN,
@@ -195,6 +197,11 @@ class ElasticModel(ModelBase):
         """The one kernel of the effects the grid and options call for (and its name in
         :attr:`kernel_name`)."""
         g = self.grid
+        if self.params.has_damping:   # one kernel, loops only (pipeplug.elastic.damped)
+            from .damped import run_damped
+            g.coef[GROWTH] = float(options.contact_growth)
+            self.kernel_name = run_damped.__name__
+            return run_damped if vectorised else jit.compiled(run_damped)
         if self.params.has_face:      # one kernel, loops only (pipeplug.elastic.face)
             from .face import run_face
             g.coef[GROWTH] = float(options.contact_growth)
@@ -317,7 +324,8 @@ class ElasticModel(ModelBase):
                        outer, inner, kinetic, strain, 0.0, float(-self.N1[0]), *ram,
                        float(self.N1[0]) / area, float(acc[N_MIN]) / area,
                        float(acc[N_MAX]) / area, self.at_rest(), *self._monitor_modes(),
-                       float(acc[W_FACE] + acc[W_FACE_ERROR]), 0.0, *self._plug_length())
+                       float(acc[W_FACE] + acc[W_FACE_ERROR]),
+                       float(acc[W_DAMPING] + acc[W_DAMPING_ERROR]), *self._plug_length())
 
     def _plug_motion(self) -> tuple[float, float]:
         """(v_plug [m/s], u_plug [m]) at the plug section of x_monitor (0 without a plug)."""

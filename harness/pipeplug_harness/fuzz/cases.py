@@ -182,10 +182,10 @@ def generate(seed: int, index: int, plan: Plan = Plan(), faces: bool = True,
     return Case(seed, index, growth, params, segments, stop, samples, grids, host_h, checks)
 
 
-def _damping(rng) -> dict:
-    """``J_shaft``, ``J_face`` [s/m] for a share of the cases, else nothing (module
+def _damping(rng, share: float = DAMPED_SHARE) -> dict:
+    """``J_shaft``, ``J_face`` [s/m] for a ``share`` of the cases, else nothing (module
     docstring)."""
-    if rng.random() >= DAMPED_SHARE:
+    if rng.random() >= share:
         return {}
     values = []
     for _ in range(2):

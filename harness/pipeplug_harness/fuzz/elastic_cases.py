@@ -29,7 +29,12 @@ it is run on. Domains drawn (SI units):
   ``plug_growth`` for 30 % of the cases, the plug starting empty for a third of them, with
   ``L2_after_cleanout`` anywhere in [0, L1] (a whole number of cells for half of the cases)
   and a clean-out at the start of each blow with probability 0.3 (none for a case marked for
-  the FMU, which carries no such input yet).
+  the FMU, which carries no such input yet);
+* Smith damping (a stream of its own, ``spawn_key=(index, 7)``; none for the free rods and the
+  plugs that grow, which the model refuses it with): half of the other cases draw ``J_shaft``,
+  ``J_face`` as the rigid cases draw them (:func:`.cases._damping`: each 0, 0.01-1 s/m or, one
+  draw in ten, 1-100 s/m; never both 0); cases without damping have no ``J_*`` (they stay the
+  cases of before).
 
 Grids (all end at the stop time and hold every blow edge and the common sample times, which
 are grid points): ``multiples`` (steps of 1-40 internal steps), ``random`` (random points, most
@@ -45,13 +50,14 @@ import numpy as np
 
 from pipeplug_harness.load import Load
 
-from .cases import Plan
+from .cases import Plan, _damping
 
 __all__ = ["ElasticCase", "generate_elastic", "internal_step", "plug_simulated", "GRIDS"]
 
 GRIDS = ("multiples", "random", "irregular")
 _POINTS = 800                     # most communication points of a grid
 _PLAN = Plan(model="elastic")
+_DAMPED_SHARE = 0.5               # of the cases that may be damped
 
 
 @dataclass(frozen=True)
@@ -82,8 +88,10 @@ class ElasticCase:
 
     @property
     def model(self) -> str:
-        """``"III+II"`` (with contact growth) or ``"III"``."""
-        return ("III+II" if self.growth else "III") + ("+growth" if self.plug_growth else "")
+        """``"III+II"`` (with contact growth) or ``"III"``, ``+growth`` with a growing plug,
+        `` damped`` with Smith damping."""
+        return (("III+II" if self.growth else "III") + ("+growth" if self.plug_growth else "")
+                + (" damped" if "J_shaft" in self.params else ""))
 
     @property
     def options(self) -> dict:
@@ -122,6 +130,9 @@ def generate_elastic(seed: int, index: int, plan: Plan = _PLAN) -> ElasticCase:
     params.update(_ram(ram, params, h))
     face = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index, 5)))
     params.update(_faces(face, params))
+    if not (plug_growth or _free(params)):
+        params.update(_damping(np.random.default_rng(
+            np.random.SeedSequence(seed, spawn_key=(index, 7))), _DAMPED_SHARE))
     edges, loads, stop = _blows(rng, params, h)
     strikes = ()
     if params["ram_mass"] > 0.0:
@@ -141,8 +152,7 @@ def generate_elastic(seed: int, index: int, plan: Plan = _PLAN) -> ElasticCase:
 def _plug_growth(rng, params: dict) -> bool:
     """Whether the plug grows, and then its starting length and ``L2_after_cleanout``
     (module docstring), set in ``params``."""
-    if (params["tau1"] == 0.0 and params["tau2"] == 0.0 and params["courant"] == 1.0) \
-            or rng.random() >= 0.3:
+    if _free(params) or rng.random() >= 0.3:
         return False
     dx, n1 = params["dx"], round(params["L1"] / params["dx"])
     if rng.random() < 1 / 3:
@@ -169,10 +179,15 @@ def _ram(rng, params: dict, h: float) -> dict:
     return dict(ram_mass=mass, cushion_stiffness=stiffness, cushion_restitution=e)
 
 
+def _free(params: dict) -> bool:
+    """A free rod: no friction at Courant 1 (the exact reference's case)."""
+    return params["tau1"] == 0.0 and params["tau2"] == 0.0 and params["courant"] == 1.0
+
+
 def _faces(rng, params: dict) -> dict:
     """``q_face``, ``q_plug_face`` [Pa] (module docstring)."""
     p = params
-    if p["tau1"] == 0.0 and p["tau2"] == 0.0 and p["courant"] == 1.0:
+    if _free(p):
         return dict(q_face=0.0, q_plug_face=0.0)      # the free rods keep their reference
     S1 = math.pi * ((p["R1"] + p["h1"]) ** 2 - p["R1"] ** 2)
     S2 = math.pi * p["R1"] ** 2

@@ -147,8 +147,8 @@ def test_without_damping_the_models_are_those_of_before():
 @pytest.mark.parametrize("params, options, words", [
     ({"tau1": 2e4, "J_shaft": 0.5}, {"contact_growth": True}, "contact_growth"),
     ({"tau1": 2e4, "J_shaft": 0.5, "ram_mass": 100.0}, {}, "ram"),
-    ({"tau1": 2e4, "J_face": 0.5, "q_face": 1e6}, {"elastic": True, "solver": "exact"},
-     "elastic"),
+    ({"tau1": 2e4, "J_shaft": 0.5, "L2": 0.5}, {"elastic": True, "plug_growth": True},
+     "plug_growth"),
     ({"tau1": 2e4, "J_shaft": 2e3}, {}, "<= 1000"),
 ])
 def test_refusals_name_the_parameter_and_the_combination(params, options, words):

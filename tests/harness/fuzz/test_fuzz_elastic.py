@@ -180,3 +180,27 @@ def _unbooked(case):
 def test_the_fuzz_finds_accretion_that_is_not_booked(monkeypatch):
     summary = _campaign(monkeypatch, _unbooked, cases=8, growth=True)
     assert _failed(summary, "ledger") >= 3
+
+
+class _UnbookedDamping(ElasticModel):
+    """Smith damping whose dissipation is not booked (W_damping reported as 0)."""
+
+    def outputs(self):
+        return super().outputs()._replace(W_damping=0.0)
+
+
+def _undamped_ledger(case):
+    options = Options(elastic=True, contact_growth=case.growth)
+    params = Params.from_mapping(case.params).validate(options.active_groups())
+    return _UnbookedDamping(params, options, vectorised=False)
+
+
+def test_the_fuzz_draws_damping_and_finds_damping_that_is_not_booked(monkeypatch):
+    plan = Plan(reference=0, fmu=0, fd=0, model="elastic")
+    cases = [generate_elastic(9, i, plan) for i in range(60)]
+    damped = [c for c in cases if "J_shaft" in c.params]
+    assert 12 <= len(damped) <= 30 and all(not c.plug_growth for c in damped)
+    assert all(c.model.endswith(" damped") for c in damped)
+    monkeypatch.setitem(ELASTIC_PATHS, "compiled", _undamped_ledger)
+    summary, _ = fuzz(9, [56, 28, 32], plan, Setup(), progress=None)    # the cheapest
+    assert _failed(summary, "ledger") == 3
