@@ -242,8 +242,7 @@ class ModelBase:
             Always: this model's plug does not change (``plug_growth`` is off, or a model that
             does not carry it).
         """
-        raise ParameterError("cleanouts", "an increase", "none without plug_growth = True "
-                             "(rigid models)")
+        raise ParameterError("cleanouts", "an increase", "none without plug_growth = True")
 
     def advance(self, q: float, h: float) -> None:
         """Advance by ``h`` [s] > 0 under a constant struck-end force ``q`` [N]."""
