@@ -27,14 +27,16 @@ The solver is one source of functions over two records (:mod:`pipeplug.rigid.rec
 from __future__ import annotations
 
 import math
+from functools import cache
 
 import numpy as np
 
 from .. import jit
 from ..interface import GROWTH_OUTPUTS, OUTPUT_NAMES, ModelBase, Outputs
-from ..params import ParameterError
+from ..params import PARAMETERS, ParameterError, check_rules, values_record
 from . import ramstep, stepping
 from .record import (
+    BUILT,
     D0,
     DMAX,
     END,
@@ -47,6 +49,7 @@ from .record import (
     MODE,
     N_HIGH,
     N_LOW,
+    N_PAR,
     P_M1,
     P_M2,
     RAM_ON,
@@ -69,6 +72,7 @@ from .record import (
     Q,
     as_array,
     parameter_record,
+    record_into,
     state_record,
 )
 
@@ -104,6 +108,16 @@ def _kernels(compiled: bool, ram: bool = False) -> tuple:
         fns = tuple(jit.compiled(f) for f in plain) if compiled else plain
         _PATHS[key] = plain if all(a is b for a, b in zip(fns, plain)) else fns
     return _PATHS[key]
+
+
+_NO_GROUPS = frozenset()               # the rigid exact solver checks no conditional group
+_L2 = [p.name for p in PARAMETERS].index("L2")
+
+
+@cache
+def _record_into():
+    """:func:`~pipeplug.rigid.record.record_into`, compiled (looked up once per process)."""
+    return jit.compiled(record_into)
 
 
 def _floats(values) -> np.ndarray:
@@ -150,20 +164,55 @@ class RigidExact(ModelBase):
     """
 
     def __init__(self, params, options, compiled: bool = True):
-        par = parameter_record(params, options.contact_growth)
-        self.M1, self.M2 = par[P_M1], par[P_M2]     # [kg]; M2 = 0 without a plug
-        self._constant = (float(params.L2), 0.0, 0.0)   # L2_now, W_accretion, W_removed
-        self.has_ram = bool(params.has_ram)          #: a ram strikes the head (strike())
-        fns = _kernels(compiled, self.has_ram)
+        self._setup(parameter_record(params, options.contact_growth), float(params.L2),
+                    bool(params.has_ram), compiled)
+
+    def _setup(self, par, L2: float, ram: bool, compiled: bool) -> None:
+        """Hold the constants ``par`` (a list, or an array when compiled) of a model with the
+        plug length ``L2`` [m] and a ram or not, on the compiled path or the plain one."""
+        self._constant = (L2, 0.0, 0.0)             # L2_now, W_accretion, W_removed
+        self.has_ram = ram                           #: a ram strikes the head (strike())
+        fns = _kernels(compiled, ram)
         #: True when running compiled code (else the plain functions themselves)
-        self.compiled = fns is not (RAM_KERNELS if self.has_ram else KERNELS)
-        self._par = as_array(par) if self.compiled else par
+        self.compiled = fns is not (RAM_KERNELS if ram else KERNELS)
+        self._par = (par if type(par) is np.ndarray else as_array(par)) if self.compiled else par
         self._st = _FRESH.copy() if self.compiled else list(_FRESH_LIST)
         self._log = np.zeros(_LOG_SIZE) if self.compiled else [0.0] * _LOG_SIZE
         self._modes: list[tuple[int, int]] = []     # taken from the log; see modes()
         (self._step, self._start, self._sample, self._outputs) = fns[:4]
-        self._strike = fns[4] if self.has_ram else None
-        self._rest = ramstep.ram_at_rest if self.has_ram else stepping.at_rest
+        self._strike = fns[4] if ram else None
+        self._rest = ramstep.ram_at_rest if ram else stepping.at_rest
+
+    @classmethod
+    def from_values(cls, values, growth: bool) -> RigidExact | None:
+        """The compiled model of the parameter ``values`` (a mapping of contract names to
+        floats; model II when ``growth``), checked and turned into the solver's constants in
+        one compiled call; None where this does not build it: numba unavailable, a name or value
+        the general path must convert or refuse, a ram or Smith damping (``build_model`` then
+        takes the general path, which refuses with the table's message what the compiled check
+        refused)."""
+        if _kernels(True) is KERNELS:
+            return None
+        held = values_record(values)
+        if held is None:
+            return None
+        flat, record = held
+        par = np.empty(N_PAR)
+        if _record_into()(par, flat, record, *check_rules(_NO_GROUPS), growth) != BUILT:
+            return None
+        model = object.__new__(cls)
+        model._setup(par, float(flat[_L2]), False, True)
+        return model
+
+    @property
+    def M1(self) -> float:
+        """Pipe mass [kg]."""
+        return float(self._par[P_M1])
+
+    @property
+    def M2(self) -> float:
+        """Plug mass [kg] (0 without a plug)."""
+        return float(self._par[P_M2])
 
     @property
     def time(self) -> float:
