@@ -120,6 +120,18 @@ def _record_into():
     return jit.compiled(record_into)
 
 
+@cache
+def _path(compiled: bool, ram: bool) -> dict:
+    """The attributes a model on a path has in common: ``compiled`` (True when running
+    compiled code, else the plain functions themselves), ``has_ram`` (a ram strikes the head:
+    :meth:`RigidExact.strike`) and the solver's entry points; set at once per build."""
+    fns = _kernels(compiled, ram)
+    return {"compiled": fns is not (RAM_KERNELS if ram else KERNELS), "has_ram": ram,
+            "_step": fns[0], "_start": fns[1], "_sample": fns[2], "_outputs": fns[3],
+            "_strike": fns[4] if ram else None,
+            "_rest": ramstep.ram_at_rest if ram else stepping.at_rest}
+
+
 def _floats(values) -> np.ndarray:
     """``values`` as a writable contiguous float64 array (the type the compiled code takes),
     without a copy when they are one already."""
@@ -131,21 +143,22 @@ def _floats(values) -> np.ndarray:
     return array if array.flags.writeable else array.copy()
 
 
-def _rows(names) -> tuple[list[int], int]:
-    """The rows of ``names`` in the outputs' table and the rows a dense output fills (the
-    kinematics alone, the first four outputs, need no forces or works): found once per
-    tuple of names."""
+def _rows(names) -> tuple[list[int], int, bool]:
+    """The rows of ``names`` in the outputs' table, the rows a dense output fills (the
+    kinematics alone, the first four outputs, need no forces or works) and whether the names
+    are those rows in order: found once per tuple of names."""
     try:
         return _ROWS[names]
     except (KeyError, TypeError):        # new, or not hashable (a list)
         rows = [OUTPUT_NAMES.index(name) for name in names]
-        found = rows, 4 if max(rows) < 4 else _SOLVED
+        filled = 4 if max(rows) < 4 else _SOLVED
+        found = rows, filled, rows == list(range(filled))
         if type(names) is tuple:
             _ROWS[names] = found
         return found
 
 
-_ROWS: dict[tuple, tuple[list[int], int]] = {}
+_ROWS: dict[tuple, tuple[list[int], int, bool]] = {}
 #: the outputs the solver's functions compute (the rest, GROWTH_OUTPUTS, are constants here)
 _SOLVED = OUTPUT_NAMES.index(GROWTH_OUTPUTS[0])
 
@@ -170,18 +183,15 @@ class RigidExact(ModelBase):
     def _setup(self, par, L2: float, ram: bool, compiled: bool) -> None:
         """Hold the constants ``par`` (a list, or an array when compiled) of a model with the
         plug length ``L2`` [m] and a ram or not, on the compiled path or the plain one."""
+        path = _path(compiled, ram)
+        self.__dict__.update(path)
         self._constant = (L2, 0.0, 0.0)             # L2_now, W_accretion, W_removed
-        self.has_ram = ram                           #: a ram strikes the head (strike())
-        fns = _kernels(compiled, ram)
-        #: True when running compiled code (else the plain functions themselves)
-        self.compiled = fns is not (RAM_KERNELS if ram else KERNELS)
-        self._par = (par if type(par) is np.ndarray else as_array(par)) if self.compiled else par
-        self._st = _FRESH.copy() if self.compiled else list(_FRESH_LIST)
-        self._log = np.zeros(_LOG_SIZE) if self.compiled else [0.0] * _LOG_SIZE
+        if path["compiled"]:
+            self._par = par if type(par) is np.ndarray else as_array(par)
+            self._st, self._log = _FRESH.copy(), np.zeros(_LOG_SIZE)
+        else:
+            self._par, self._st, self._log = par, list(_FRESH_LIST), [0.0] * _LOG_SIZE
         self._modes: list[tuple[int, int]] = []     # taken from the log; see modes()
-        (self._step, self._start, self._sample, self._outputs) = fns[:4]
-        self._strike = fns[4] if ram else None
-        self._rest = ramstep.ram_at_rest if ram else stepping.at_rest
 
     @classmethod
     def from_values(cls, values, growth: bool) -> RigidExact | None:
@@ -201,7 +211,7 @@ class RigidExact(ModelBase):
         if _record_into()(par, flat, record, *check_rules(_NO_GROUPS), growth) != BUILT:
             return None
         model = object.__new__(cls)
-        model._setup(par, float(flat[_L2]), False, True)
+        model._setup(par, flat.item(_L2), False, True)
         return model
 
     @property
@@ -289,8 +299,8 @@ class RigidExact(ModelBase):
         times, loads = _floats(times), _floats(q)
         if loads.shape != times.shape:
             loads = np.broadcast_to(loads, times.shape).copy()
-        rows, filled = _rows(names)
-        table = np.zeros((filled, len(times)))
+        rows, filled, in_order = _rows(names)
+        table = np.empty((filled, len(times)))   # every column written, or an error raised
         code, done = self._sample(self._st, self._par, self._log, loads, times, table, 0)
         rounds = 0
         while code == stepping.LOG_FULL:
@@ -298,6 +308,8 @@ class RigidExact(ModelBase):
             code, done = self._sample(self._st, self._par, self._log, loads, times, table, done)
         if code:
             self._raise(code)
+        if in_order:                        # the table's rows are the outputs asked for
+            return dict(zip(names, table))
         return {name: table[row] if row < _SOLVED else np.full(len(times),
                                                               self._constant[row - _SOLVED])
                 for name, row in zip(names, rows)}
