@@ -300,7 +300,9 @@ class RigidExact(ModelBase):
         if loads.shape != times.shape:
             loads = np.broadcast_to(loads, times.shape).copy()
         rows, filled, in_order = _rows(names)
-        table = np.empty((filled, len(times)))   # every column written, or an error raised
+        # The kinematics' rows are written in every column (or an error raised); of all the
+        # outputs' rows, W_damping's is not (0 here).
+        table = (np.empty if filled == 4 else np.zeros)((filled, len(times)))
         code, done = self._sample(self._st, self._par, self._log, loads, times, table, 0)
         rounds = 0
         while code == stepping.LOG_FULL:
