@@ -110,6 +110,7 @@ def _kernels(compiled: bool, ram: bool = False) -> tuple:
     return _PATHS[key]
 
 
+_FLOAT64 = np.dtype(np.float64)        # numpy's one instance of the native float64 dtype
 _NO_GROUPS = frozenset()               # the rigid exact solver checks no conditional group
 _L2 = [p.name for p in PARAMETERS].index("L2")
 
@@ -135,7 +136,7 @@ def _path(compiled: bool, ram: bool) -> dict:
 def _floats(values) -> np.ndarray:
     """``values`` as a writable contiguous float64 array (the type the compiled code takes),
     without a copy when they are one already."""
-    if type(values) is np.ndarray and values.dtype == np.float64:
+    if type(values) is np.ndarray and values.dtype is _FLOAT64:
         flags = values.flags
         if flags.c_contiguous and flags.writeable:
             return values                # the common case, without numpy's conversion call
@@ -178,12 +179,11 @@ class RigidExact(ModelBase):
 
     def __init__(self, params, options, compiled: bool = True):
         self._setup(parameter_record(params, options.contact_growth), float(params.L2),
-                    bool(params.has_ram), compiled)
+                    _path(compiled, bool(params.has_ram)))
 
-    def _setup(self, par, L2: float, ram: bool, compiled: bool) -> None:
+    def _setup(self, par, L2: float, path: dict) -> None:
         """Hold the constants ``par`` (a list, or an array when compiled) of a model with the
-        plug length ``L2`` [m] and a ram or not, on the compiled path or the plain one."""
-        path = _path(compiled, ram)
+        plug length ``L2`` [m] on a path (:func:`_path`)."""
         self.__dict__.update(path)
         self._constant = (L2, 0.0, 0.0)             # L2_now, W_accretion, W_removed
         if path["compiled"]:
@@ -211,7 +211,7 @@ class RigidExact(ModelBase):
         if _record_into()(par, flat, record, *check_rules(_NO_GROUPS), growth) != BUILT:
             return None
         model = object.__new__(cls)
-        model._setup(par, flat.item(_L2), False, True)
+        model._setup(par, flat.item(_L2), _path(True, False))
         return model
 
     @property
