@@ -201,7 +201,8 @@ class RigidExact(ModelBase):
         the general path must convert or refuse, a ram or Smith damping (``build_model`` then
         takes the general path, which refuses with the table's message what the compiled check
         refused)."""
-        if _kernels(True) is KERNELS:
+        path = _path(True, False)
+        if not path["compiled"]:
             return None
         held = values_record(values)
         if held is None:
@@ -211,7 +212,7 @@ class RigidExact(ModelBase):
         if _record_into()(par, flat, record, *check_rules(_NO_GROUPS), growth) != BUILT:
             return None
         model = object.__new__(cls)
-        model._setup(par, flat.item(_L2), _path(True, False))
+        model._setup(par, flat.item(_L2), path)
         return model
 
     @property
