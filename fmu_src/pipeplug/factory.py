@@ -13,6 +13,8 @@ from .params import ParameterError, Params
 
 __all__ = ["build_model"]
 
+_NONE: dict = {}                       # no parameter given
+
 
 def build_model(params: Params | Mapping[str, float] | None = None,
                 options: Options | Mapping[str, object] | None = None, *,
@@ -46,6 +48,13 @@ def build_model(params: Params | Mapping[str, float] | None = None,
     """
     if not isinstance(options, Options):
         options = Options.from_mapping(options)
+    if (compiled and not profile_points and options.solver == "exact" and not options.elastic
+            and not options.plug_growth):   # the common case, checked and built compiled
+        model = _variant("exact").from_values(
+            params.__dict__ if isinstance(params, Params) else params or _NONE,
+            options.contact_growth)
+        if model is not None:
+            return model
     if not isinstance(params, Params):
         params = Params.from_mapping(params or {})
     params.validate(options.active_groups())

@@ -45,12 +45,12 @@ class Options:
         ParameterError
             For an unknown option (naming the known ones) or a value outside the allowed set.
         """
-        given = dict(given or {})
+        given = given or _NONE
         try:                          # a choice seen before: validated then
-            key = tuple((k, type(v), v) for k, v in given.items())
-            return _SEEN[key]
+            return _SEEN[_key(given)]
         except (KeyError, TypeError):   # new, or unhashable (not an allowed value)
             pass
+        given = dict(given)
         for key, value in given.items():
             if key not in OPTIONS:
                 raise ParameterError(key, value, "an option among " + ", ".join(OPTIONS))
@@ -59,20 +59,31 @@ class Options:
                                      "one of " + ", ".join(map(repr, OPTIONS[key][0])))
         options = cls(**{k: given.get(k, spec[1]) for k, spec in OPTIONS.items()})
         if cls is Options:
-            _SEEN[tuple((k, type(v), v) for k, v in given.items())] = options
+            _SEEN[_key(given)] = options
         return options
 
     def active_groups(self) -> frozenset[str]:
         """Which conditional parameter groups these options make active."""
         if self.elastic:
             return _ELASTIC
-        return _FD if self.solver == "fd" else _NONE
+        return _FD if self.solver == "fd" else _NO_GROUP
 
 
-_ELASTIC, _FD, _NONE = frozenset({"elastic"}), frozenset({"fd"}), frozenset()
+_ELASTIC, _FD, _NO_GROUP = frozenset({"elastic"}), frozenset({"fd"}), frozenset()
 #: validated choices by their (name, type, value) items: few, since every value is one of the
 #: allowed ones (so a build does not check the table again)
 _SEEN: dict[tuple, Options] = {}
+_NONE: dict = {}                  # no option given
+
+
+def _key(given) -> tuple:
+    """The key of a choice in :data:`_SEEN`: its names, values and the values' types."""
+    key = ()
+    for name, value in given.items():
+        key += (name, type(value), value)
+    return key
+
+
 #: the allowed values of each option with their types (so that 1 is not True, nor 1.0 1)
 _ALLOWED = {name: {(type(a), a) for a in spec[0]} for name, spec in OPTIONS.items()}
 

@@ -26,13 +26,15 @@ from __future__ import annotations
 
 import contextlib
 import math
+import threading
 from dataclasses import dataclass, fields, make_dataclass, replace
 from functools import cache
 
 import numpy as np
 
 __all__ = ["ParameterError", "Parameter", "PARAMETERS", "Params", "ParamArrays", "Limit",
-           "LIMITS", "LARGEST"]
+           "LIMITS", "LARGEST", "DERIVED", "RECORD_DTYPE", "values_record", "check_rules",
+           "first_refused", "limit_values"]
 
 
 class ParameterError(ValueError):
@@ -177,118 +179,135 @@ LIMITS: tuple[Limit, ...] = (
 )
 
 
+# The derived quantities, each one function of a parameter holder ``p`` that reads its values
+# as attributes: a Params, a ParamArrays (arrays of values; the wave speeds excepted) or, in
+# compiled code, a record of RECORD_DTYPE (FORMULAS are registered with numba by the exact
+# solver's record module). Arithmetic only, and ``&``/``|`` for the flags, so that the same
+# source serves floats, arrays and records.
+def outer_perimeter(p):
+    """Outer perimeter of the pipe, P1 = 2 pi (R1 + h1) [m]."""
+    return 2.0 * math.pi * (p.R1 + p.h1)
+
+
+def inner_perimeter(p):
+    """Inner perimeter of the pipe, P2 = 2 pi R1 [m]."""
+    return 2.0 * math.pi * p.R1
+
+
+def wall_section(p):
+    """Cross-section of the pipe wall, S1 = pi ((R1 + h1)^2 - R1^2) [m^2]."""
+    return math.pi * ((p.R1 + p.h1) ** 2 - p.R1 ** 2)
+
+
+def plug_section(p):
+    """Cross-section of the plug, S2 = pi R1^2 [m^2]."""
+    return math.pi * p.R1 ** 2
+
+
+def pipe_mass(p):
+    """Pipe mass, M1 = rho1 S1 L1 [kg]."""
+    return p.rho1 * wall_section(p) * p.L1
+
+
+def plug_mass(p):
+    """Plug mass, M2 = rho2 S2 L2 [kg]."""
+    return p.rho2 * plug_section(p) * p.L2
+
+
+def outer_limit(p):
+    """Outer friction limit over the whole pipe length, F1 = P1 L1 tau1 [N]."""
+    return outer_perimeter(p) * p.L1 * p.tau1
+
+
+def inner_limit(p):
+    """Inner (plug) friction limit, F2 = P2 L2 tau2 [N]."""
+    return inner_perimeter(p) * p.L2 * p.tau2
+
+
+def face_limit(p):
+    """End resistance on the steel annulus, F_face = q_face S1 [N]."""
+    return p.q_face * wall_section(p)
+
+
+def plug_face_limit(p):
+    """End resistance on the plug's front face, F_plug_face = q_plug_face S2 [N]."""
+    return p.q_plug_face * plug_section(p)
+
+
+def shaft_damping(p):
+    """Damping coefficient of the outer shaft friction, C_shaft = J_shaft F1 [N s/m]."""
+    return p.J_shaft * outer_limit(p)
+
+
+def inner_damping(p):
+    """Damping coefficient of the plug's inner friction, C_inner = J_shaft F2 [N s/m]."""
+    return p.J_shaft * inner_limit(p)
+
+
+def face_damping(p):
+    """Damping coefficient of the annulus' end resistance, C_face = J_face q_face S1
+    [N s/m]."""
+    return p.J_face * face_limit(p)
+
+
+def plug_face_damping(p):
+    """Damping coefficient of the plug face's end resistance, C_plug_face = J_face
+    q_plug_face S2 [N s/m]."""
+    return p.J_face * plug_face_limit(p)
+
+
+def has_plug(p):
+    """True when the plug is coupled to the pipe (tau2 > 0 and L2 > 0)."""
+    return (p.tau2 > 0.0) & (p.L2 > 0.0)
+
+
+def has_face(p):
+    """True when an end resistance acts (q_face > 0, or q_plug_face > 0 on a coupled plug)."""
+    return (p.q_face > 0.0) | ((p.q_plug_face > 0.0) & has_plug(p))
+
+
+def has_damping(p):
+    """True when Smith damping acts on a resistance that is there (J_shaft with shaft
+    friction, J_face with an end resistance)."""
+    return (((p.J_shaft > 0.0) & ((p.tau1 > 0.0) | has_plug(p)))
+            | ((p.J_face > 0.0) & has_face(p)))
+
+
+def has_ram(p):
+    """True when a ram strikes the pipe (ram_mass > 0)."""
+    return p.ram_mass > 0.0
+
+
+def cells(p):
+    """Cells of the elastic pipe, L1/dx [1]."""
+    return p.L1 / p.dx
+
+
+def pipe_wave_speed(p):
+    """Rod wave speed of the pipe, c1 = sqrt(E1/rho1) [m/s]."""
+    return math.sqrt(p.E1 / p.rho1)
+
+
+def plug_wave_speed(p):
+    """Rod wave speed of the plug, c2 = sqrt(E2/rho2) [m/s]."""
+    return math.sqrt(p.E2 / p.rho2)
+
+
+#: the derived quantities by their names in the formulas and LIMITS (the properties of Params)
+DERIVED = {"P1": outer_perimeter, "P2": inner_perimeter, "S1": wall_section, "S2": plug_section,
+           "M1": pipe_mass, "M2": plug_mass, "F1": outer_limit, "F2": inner_limit,
+           "F_face": face_limit, "F_plug_face": plug_face_limit, "C_shaft": shaft_damping,
+           "C_inner": inner_damping, "C_face": face_damping, "C_plug_face": plug_face_damping,
+           "has_plug": has_plug, "has_face": has_face, "has_damping": has_damping,
+           "has_ram": has_ram, "cells": cells, "c1": pipe_wave_speed, "c2": plug_wave_speed}
+
+
 class _Formulas:
-    """Quantities derived from the parameter values (arithmetic only, so that the same formulas
-    serve arrays of values, :class:`ParamArrays`; the wave speeds excepted)."""
+    """The derived quantities (:data:`DERIVED`) as properties."""
 
-    @property
-    def P1(self) -> float:
-        """Outer perimeter of the pipe [m]."""
-        return 2.0 * math.pi * (self.R1 + self.h1)
 
-    @property
-    def P2(self) -> float:
-        """Inner perimeter of the pipe [m]."""
-        return 2.0 * math.pi * self.R1
-
-    @property
-    def S1(self) -> float:
-        """Cross-section of the pipe wall [m^2]."""
-        return math.pi * ((self.R1 + self.h1) ** 2 - self.R1 ** 2)
-
-    @property
-    def S2(self) -> float:
-        """Cross-section of the plug [m^2]."""
-        return math.pi * self.R1 ** 2
-
-    @property
-    def M1(self) -> float:
-        """Pipe mass [kg]."""
-        return self.rho1 * self.S1 * self.L1
-
-    @property
-    def M2(self) -> float:
-        """Plug mass [kg]."""
-        return self.rho2 * self.S2 * self.L2
-
-    @property
-    def F1(self) -> float:
-        """Outer friction limit over the whole pipe length, P1 L1 tau1 [N]."""
-        return self.P1 * self.L1 * self.tau1
-
-    @property
-    def F2(self) -> float:
-        """Inner (plug) friction limit, P2 L2 tau2 [N]."""
-        return self.P2 * self.L2 * self.tau2
-
-    @property
-    def F_face(self) -> float:
-        """End resistance on the steel annulus, q_face S1 [N]."""
-        return self.q_face * self.S1
-
-    @property
-    def F_plug_face(self) -> float:
-        """End resistance on the plug's front face, q_plug_face S2 [N]."""
-        return self.q_plug_face * self.S2
-
-    @property
-    def has_face(self) -> bool:
-        """True when an end resistance acts (q_face > 0, or q_plug_face > 0 on a coupled
-        plug)."""
-        return self.q_face > 0.0 or (self.q_plug_face > 0.0 and self.has_plug)
-
-    @property
-    def C_shaft(self) -> float:
-        """Damping coefficient of the outer shaft friction, J_shaft F1 [N s/m]."""
-        return self.J_shaft * self.F1
-
-    @property
-    def C_inner(self) -> float:
-        """Damping coefficient of the plug's inner friction, J_shaft F2 [N s/m]."""
-        return self.J_shaft * self.F2
-
-    @property
-    def C_face(self) -> float:
-        """Damping coefficient of the annulus' end resistance, J_face q_face S1 [N s/m]."""
-        return self.J_face * self.F_face
-
-    @property
-    def C_plug_face(self) -> float:
-        """Damping coefficient of the plug face's end resistance, J_face q_plug_face S2
-        [N s/m]."""
-        return self.J_face * self.F_plug_face
-
-    @property
-    def has_damping(self) -> bool:
-        """True when Smith damping acts on a resistance that is there (J_shaft with shaft
-        friction, J_face with an end resistance)."""
-        return ((self.J_shaft > 0.0 and (self.tau1 > 0.0 or self.has_plug))
-                or (self.J_face > 0.0 and self.has_face))
-
-    @property
-    def has_plug(self) -> bool:
-        """True when the plug is coupled to the pipe (tau2 > 0 and L2 > 0)."""
-        return self.tau2 > 0.0 and self.L2 > 0.0
-
-    @property
-    def has_ram(self) -> bool:
-        """True when a ram strikes the pipe (ram_mass > 0)."""
-        return self.ram_mass > 0.0
-
-    @property
-    def cells(self) -> float:
-        """Cells of the elastic pipe, L1/dx [1]."""
-        return self.L1 / self.dx
-
-    @property
-    def c1(self) -> float:
-        """Rod wave speed of the pipe, sqrt(E1/rho1) [m/s]."""
-        return math.sqrt(self.E1 / self.rho1)
-
-    @property
-    def c2(self) -> float:
-        """Rod wave speed of the plug, sqrt(E2/rho2) [m/s]."""
-        return math.sqrt(self.E2 / self.rho2)
+for _name, _formula in DERIVED.items():
+    setattr(_Formulas, _name, property(_formula))
 
 
 class _Derived(_Formulas):
@@ -385,11 +404,6 @@ class ParamArrays(_Formulas):
             setattr(self, p.name, np.atleast_1d(column).ravel())
         self.size = len(self.L1)
 
-    @property
-    def has_plug(self):
-        """True where the plug is coupled to the pipe (tau2 > 0 and L2 > 0)."""
-        return (self.tau2 > 0.0) & (self.L2 > 0.0)
-
     def validate(self, active: frozenset[str] = frozenset()) -> ParamArrays:
         """Check every active parameter of every case (see :meth:`Params.validate`).
 
@@ -425,6 +439,107 @@ Fields are the names of :data:`PARAMETERS` (one place for units, defaults and ra
 Construct with keywords; :meth:`validate` checks the ranges.
 """
 Params.__module__ = __name__
+
+
+#: the parameter values as the fields of one record, in table order (compiled code reads them by
+#: name from a record array over the values)
+RECORD_DTYPE = np.dtype([(p.name, np.float64) for p in PARAMETERS])
+_INDEX = {p.name: i for i, p in enumerate(PARAMETERS)}
+_DEFAULT_VALUES = np.array([p.default for p in PARAMETERS])
+_DEFAULT_VIEW = memoryview(_DEFAULT_VALUES)
+_SCRATCH = threading.local()    # per thread: the values and the record over them (see below)
+
+
+def values_record(values) -> tuple[np.ndarray, np.ndarray] | None:
+    """``values`` over the defaults, as ``(flat, record)``: floats in table order and a record
+    array of :data:`RECORD_DTYPE` over the same memory, or None when a name is unknown or a
+    value is not a ``float`` (the general path converts or refuses it by name).
+
+    The two arrays are this thread's own and are overwritten by its next call: a record dtype
+    costs microseconds per array made, more than the check it serves.
+    """
+    try:
+        flat, record, view = _SCRATCH.arrays
+    except AttributeError:
+        flat = _DEFAULT_VALUES.copy()
+        _SCRATCH.arrays = flat, flat.view(RECORD_DTYPE), memoryview(flat)
+        flat, record, view = _SCRATCH.arrays
+    view[:] = _DEFAULT_VIEW           # a memoryview sets floats faster than numpy's indexing
+    index = _INDEX.get
+    for name, value in values.items():
+        i = index(name)
+        if i is None or type(value) is not float:
+            return None
+        view[i] = value
+    return flat, record
+
+
+@cache
+def check_rules(active: frozenset[str]) -> tuple[np.ndarray, np.ndarray]:
+    """The checks of :meth:`Params.validate` with the groups ``active`` as arrays, for
+    :func:`first_refused`: per parameter ``(checked, low, strict, high, of, factor)`` (1.0 for
+    true; ``of`` the index of the bounding parameter, -1 for none), per limit of :data:`LIMITS`
+    ``(when, smallest, largest)``, ``when`` 0 (inactive), 1 (always) or 2 (where the plug is
+    simulated)."""
+    rules = np.array([(float(checked), low, float(strict), high,
+                       -1.0 if of is None else float(_INDEX[of]), factor)
+                      for _, _, checked, low, strict, high, of, factor in _checks(active)])
+    active_limits = _limits(active)
+    limits = np.array([(0.0 if x not in active_limits else 2.0 if x.active_with == "plug"
+                        else 1.0, x.smallest, x.largest) for x in LIMITS])
+    return rules, limits
+
+
+def limit_values(p):
+    """The quantities of :data:`LIMITS`, in its order, for the parameter holder ``p``."""
+    return (wall_section(p), pipe_mass(p), plug_section(p), plug_mass(p), outer_limit(p),
+            inner_limit(p), face_limit(p), plug_face_limit(p), shaft_damping(p),
+            inner_damping(p), face_damping(p), plug_face_damping(p), pipe_wave_speed(p),
+            plug_wave_speed(p), cells(p))
+
+
+def first_refused(values, p, rules, limits):
+    """The first value :meth:`Params.validate` refuses, without messages (compiled code runs it
+    over floats; the message is built by ``validate`` itself where this finds one).
+
+    Parameters
+    ----------
+    values : array of float
+        The values in table order.
+    p : record
+        The same values as the fields of a record of :data:`RECORD_DTYPE`.
+    rules, limits : arrays
+        :func:`check_rules` of the active groups.
+
+    Returns
+    -------
+    int
+        The index of the first parameter refused, ``len(values)`` plus the index of the first
+        limit refused, or -1 when every check passes.
+    """
+    n = values.shape[0]
+    for i in range(n):
+        value = values[i]
+        if rules[i, 0] == 0.0:                       # not checked: finite only
+            if not value - value == 0.0:
+                return i
+            continue
+        low, of = rules[i, 1], int(rules[i, 4])
+        ok = ((value > low if rules[i, 2] != 0.0 else value >= low) and value <= rules[i, 3]
+              and -LARGEST <= value <= LARGEST)
+        if ok and of >= 0:
+            ok = value <= values[of] * rules[i, 5]
+        if not ok:
+            return i
+    plug = has_plug(p)
+    quantities = limit_values(p)
+    for j in range(limits.shape[0]):
+        when = limits[j, 0]
+        if when == 0.0 or (when == 2.0 and not plug):
+            continue
+        if not limits[j, 1] <= quantities[j] <= limits[j, 2]:    # False for NaN
+            return n + j
+    return -1
 
 
 def _checked_names(values) -> dict:

@@ -100,3 +100,55 @@ def test_the_batch_api_refuses_the_same_cases():
     assert (err.value.name, err.value.value) == ("h1", 1e-18)
     with pytest.raises(ParameterError, match="dt = nan"):
         ParamArrays({"dt": np.array([1e-4, math.nan])}).validate()
+
+
+def test_the_limits_quantities_are_the_tables_in_its_order():
+    """The compiled check reads the limits' quantities by position (params.limit_values)."""
+    from pipeplug.params import LIMITS, limit_values
+
+    p = Params(tau1=2e4, q_face=3e5, q_plug_face=1e5, J_shaft=0.2, J_face=0.1)
+    assert limit_values(p) == tuple(getattr(p, limit.quantity) for limit in LIMITS)
+
+
+def _edge_values(rng, count):
+    """Mappings of a few parameters each, at and around the edges of their ranges."""
+    edges = [0.0, -0.0, -1.0, 1e-300, 1e-120, 1e-60, 1e-18, 0.5, 1.0, 2.0, 1e3, 1e99, 1e100,
+             1.0000000000000002e100, 1e300, math.inf, -math.inf, math.nan]
+    for _ in range(count):
+        names = rng.choice([p.name for p in PARAMETERS], size=int(rng.integers(1, 4)),
+                           replace=False)
+        yield {str(n): float(rng.choice(edges)) * float(rng.choice([1.0, 1.0, 0.3]))
+               for n in names}
+
+
+@pytest.mark.parametrize("options", [{}, {"contact_growth": True}])
+def test_the_compiled_check_refuses_what_the_table_refuses(options):
+    """build_model's compiled check and build (the common case) against the general path
+    (compiled=False: Params.validate): the same refusals with the same messages, the same
+    constants where both build."""
+    import numpy as np
+
+    from pipeplug import jit
+
+    rng = np.random.default_rng(29)
+    built = refused = 0
+    for values in _edge_values(rng, 400):
+        outcomes = []
+        for compiled in (True, False):
+            try:
+                model = build_model(values, options, compiled=compiled)
+            except ParameterError as err:
+                outcomes.append(str(err))
+            else:
+                outcomes.append(list(np.asarray(model._par, dtype=float))
+                                if hasattr(model, "_par") else type(model))
+        assert outcomes[0] == outcomes[1], values
+        built += not isinstance(outcomes[0], str)
+        refused += isinstance(outcomes[0], str)
+    assert built > 40 and refused > 200            # both kinds were exercised
+    if jit.enabled():
+        from pipeplug.rigid.exact import RigidExact
+
+        assert RigidExact.from_values({"tau1": 2e4}, False) is not None
+        assert RigidExact.from_values({"tau1": -1.0}, False) is None      # refused
+        assert RigidExact.from_values({"ram_mass": 1.0}, False) is None   # another variant

@@ -30,6 +30,7 @@ __all__ = ["NONE", "CONSTANT", "GROWING", "outer_contact_for", "limit", "segment
 NONE, CONSTANT, GROWING = 0.0, 1.0, 2.0
 
 
+@jitable
 def outer_contact_for(P1, L1, tau1, growth: bool, q_face=0.0) -> tuple:
     """The outer friction law the parameters call for (``P1`` [m], ``L1`` [m], ``tau1`` [Pa]:
     floats, or arrays for many cases at once, giving arrays).

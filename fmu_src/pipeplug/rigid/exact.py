@@ -27,14 +27,16 @@ The solver is one source of functions over two records (:mod:`pipeplug.rigid.rec
 from __future__ import annotations
 
 import math
+from functools import cache
 
 import numpy as np
 
 from .. import jit
 from ..interface import GROWTH_OUTPUTS, OUTPUT_NAMES, ModelBase, Outputs
-from ..params import ParameterError
+from ..params import PARAMETERS, ParameterError, check_rules, values_record
 from . import ramstep, stepping
 from .record import (
+    BUILT,
     D0,
     DMAX,
     END,
@@ -47,6 +49,7 @@ from .record import (
     MODE,
     N_HIGH,
     N_LOW,
+    N_PAR,
     P_M1,
     P_M2,
     RAM_ON,
@@ -69,6 +72,7 @@ from .record import (
     Q,
     as_array,
     parameter_record,
+    record_into,
     state_record,
 )
 
@@ -106,10 +110,33 @@ def _kernels(compiled: bool, ram: bool = False) -> tuple:
     return _PATHS[key]
 
 
+_FLOAT64 = np.dtype(np.float64)        # numpy's one instance of the native float64 dtype
+_NO_GROUPS = frozenset()               # the rigid exact solver checks no conditional group
+_L2 = [p.name for p in PARAMETERS].index("L2")
+
+
+@cache
+def _record_into():
+    """:func:`~pipeplug.rigid.record.record_into`, compiled (looked up once per process)."""
+    return jit.compiled(record_into)
+
+
+@cache
+def _path(compiled: bool, ram: bool) -> dict:
+    """The attributes a model on a path has in common: ``compiled`` (True when running
+    compiled code, else the plain functions themselves), ``has_ram`` (a ram strikes the head:
+    :meth:`RigidExact.strike`) and the solver's entry points; set at once per build."""
+    fns = _kernels(compiled, ram)
+    return {"compiled": fns is not (RAM_KERNELS if ram else KERNELS), "has_ram": ram,
+            "_step": fns[0], "_start": fns[1], "_sample": fns[2], "_outputs": fns[3],
+            "_strike": fns[4] if ram else None,
+            "_rest": ramstep.ram_at_rest if ram else stepping.at_rest}
+
+
 def _floats(values) -> np.ndarray:
     """``values`` as a writable contiguous float64 array (the type the compiled code takes),
     without a copy when they are one already."""
-    if type(values) is np.ndarray and values.dtype == np.float64:
+    if type(values) is np.ndarray and values.dtype is _FLOAT64:
         flags = values.flags
         if flags.c_contiguous and flags.writeable:
             return values                # the common case, without numpy's conversion call
@@ -117,21 +144,22 @@ def _floats(values) -> np.ndarray:
     return array if array.flags.writeable else array.copy()
 
 
-def _rows(names) -> tuple[list[int], int]:
-    """The rows of ``names`` in the outputs' table and the rows a dense output fills (the
-    kinematics alone, the first four outputs, need no forces or works): found once per
-    tuple of names."""
+def _rows(names) -> tuple[list[int], int, bool]:
+    """The rows of ``names`` in the outputs' table, the rows a dense output fills (the
+    kinematics alone, the first four outputs, need no forces or works) and whether the names
+    are those rows in order: found once per tuple of names."""
     try:
         return _ROWS[names]
     except (KeyError, TypeError):        # new, or not hashable (a list)
         rows = [OUTPUT_NAMES.index(name) for name in names]
-        found = rows, 4 if max(rows) < 4 else _SOLVED
+        filled = 4 if max(rows) < 4 else _SOLVED
+        found = rows, filled, rows == list(range(filled))
         if type(names) is tuple:
             _ROWS[names] = found
         return found
 
 
-_ROWS: dict[tuple, tuple[list[int], int]] = {}
+_ROWS: dict[tuple, tuple[list[int], int, bool]] = {}
 #: the outputs the solver's functions compute (the rest, GROWTH_OUTPUTS, are constants here)
 _SOLVED = OUTPUT_NAMES.index(GROWTH_OUTPUTS[0])
 
@@ -150,20 +178,52 @@ class RigidExact(ModelBase):
     """
 
     def __init__(self, params, options, compiled: bool = True):
-        par = parameter_record(params, options.contact_growth)
-        self.M1, self.M2 = par[P_M1], par[P_M2]     # [kg]; M2 = 0 without a plug
-        self._constant = (float(params.L2), 0.0, 0.0)   # L2_now, W_accretion, W_removed
-        self.has_ram = bool(params.has_ram)          #: a ram strikes the head (strike())
-        fns = _kernels(compiled, self.has_ram)
-        #: True when running compiled code (else the plain functions themselves)
-        self.compiled = fns is not (RAM_KERNELS if self.has_ram else KERNELS)
-        self._par = as_array(par) if self.compiled else par
-        self._st = _FRESH.copy() if self.compiled else list(_FRESH_LIST)
-        self._log = np.zeros(_LOG_SIZE) if self.compiled else [0.0] * _LOG_SIZE
+        self._setup(parameter_record(params, options.contact_growth), float(params.L2),
+                    _path(compiled, bool(params.has_ram)))
+
+    def _setup(self, par, L2: float, path: dict) -> None:
+        """Hold the constants ``par`` (a list, or an array when compiled) of a model with the
+        plug length ``L2`` [m] on a path (:func:`_path`)."""
+        self.__dict__.update(path)
+        self._constant = (L2, 0.0, 0.0)             # L2_now, W_accretion, W_removed
+        if path["compiled"]:
+            self._par = par if type(par) is np.ndarray else as_array(par)
+            self._st, self._log = _FRESH.copy(), np.zeros(_LOG_SIZE)
+        else:
+            self._par, self._st, self._log = par, list(_FRESH_LIST), [0.0] * _LOG_SIZE
         self._modes: list[tuple[int, int]] = []     # taken from the log; see modes()
-        (self._step, self._start, self._sample, self._outputs) = fns[:4]
-        self._strike = fns[4] if self.has_ram else None
-        self._rest = ramstep.ram_at_rest if self.has_ram else stepping.at_rest
+
+    @classmethod
+    def from_values(cls, values, growth: bool) -> RigidExact | None:
+        """The compiled model of the parameter ``values`` (a mapping of contract names to
+        floats; model II when ``growth``), checked and turned into the solver's constants in
+        one compiled call; None where this does not build it: numba unavailable, a name or value
+        the general path must convert or refuse, a ram or Smith damping (``build_model`` then
+        takes the general path, which refuses with the table's message what the compiled check
+        refused)."""
+        path = _path(True, False)
+        if not path["compiled"]:
+            return None
+        held = values_record(values)
+        if held is None:
+            return None
+        flat, record = held
+        par = np.empty(N_PAR)
+        if _record_into()(par, flat, record, *check_rules(_NO_GROUPS), growth) != BUILT:
+            return None
+        model = object.__new__(cls)
+        model._setup(par, flat.item(_L2), path)
+        return model
+
+    @property
+    def M1(self) -> float:
+        """Pipe mass [kg]."""
+        return float(self._par[P_M1])
+
+    @property
+    def M2(self) -> float:
+        """Plug mass [kg] (0 without a plug)."""
+        return float(self._par[P_M2])
 
     @property
     def time(self) -> float:
@@ -240,8 +300,10 @@ class RigidExact(ModelBase):
         times, loads = _floats(times), _floats(q)
         if loads.shape != times.shape:
             loads = np.broadcast_to(loads, times.shape).copy()
-        rows, filled = _rows(names)
-        table = np.zeros((filled, len(times)))
+        rows, filled, in_order = _rows(names)
+        # The kinematics' rows are written in every column (or an error raised); of all the
+        # outputs' rows, W_damping's is not (0 here).
+        table = (np.empty if filled == 4 else np.zeros)((filled, len(times)))
         code, done = self._sample(self._st, self._par, self._log, loads, times, table, 0)
         rounds = 0
         while code == stepping.LOG_FULL:
@@ -249,6 +311,8 @@ class RigidExact(ModelBase):
             code, done = self._sample(self._st, self._par, self._log, loads, times, table, done)
         if code:
             self._raise(code)
+        if in_order:                        # the table's rows are the outputs asked for
+            return dict(zip(names, table))
         return {name: table[row] if row < _SOLVED else np.full(len(times),
                                                               self._constant[row - _SOLVED])
                 for name, row in zip(names, rows)}

@@ -16,8 +16,31 @@ import numpy as np
 
 from ..contact.outer import outer_contact_for
 from ..jit import jitable
+from ..params import (
+    DERIVED,
+    face_limit,
+    first_refused,
+    has_damping,
+    has_plug,
+    has_ram,
+    inner_limit,
+    limit_values,
+    outer_perimeter,
+    pipe_mass,
+    plug_face_limit,
+    plug_mass,
+    wall_section,
+)
 
-__all__ = ["parameter_record", "state_record", "reset_state", "as_array", "N_PAR", "N_STATE"]
+__all__ = ["parameter_record", "record_into", "state_record", "reset_state", "as_array", "N_PAR",
+           "N_STATE", "BUILT", "ELSEWHERE"]
+
+# The parameters' formulas and checks (pipeplug.params: the one table) run compiled here too.
+for _helper in (*DERIVED.values(), first_refused, limit_values):
+    jitable(_helper)
+#: what record_into returns besides a refused value's index: the record is written; the values
+#: are valid but call for a variant it does not build (a ram, Smith damping)
+BUILT, ELSEWHERE = -1, -2
 
 # Constants: pipe mass M1 [kg]; plug mass M2 [kg] and its friction limit F2 = P2 L2 tau2 [N]
 # (both 0 without a plug); 1.0 when the plug is coupled; the outer law (kind, F1 [N],
@@ -68,20 +91,50 @@ S3, W_FACE, FACE1, FACE3 = range(STEPPING + 1, STEPPING + 5)
 N_STATE = FACE3 + 1
 
 
-def parameter_record(params, growth: bool) -> list:
-    """The constants of the exact solver for validated ``params`` (model II when ``growth``).
+@jitable
+def parameter_record(params, growth):
+    """The constants of the exact solver (a list) for validated ``params`` (model II when
+    ``growth``).
 
-    ``params`` is a :class:`~pipeplug.params.Params`, or a :class:`~pipeplug.params.ParamArrays`
-    of many cases (then each entry is an array over the cases).
+    ``params`` is a :class:`~pipeplug.params.Params`, a :class:`~pipeplug.params.ParamArrays`
+    of many cases (then each entry is an array over the cases) or, compiled, a record of
+    :data:`~pipeplug.params.RECORD_DTYPE`.
     """
-    coupled = params.has_plug
-    law = outer_contact_for(params.P1, params.L1, params.tau1, growth, params.q_face)
+    coupled = has_plug(params)
+    law = outer_contact_for(outer_perimeter(params), params.L1, params.tau1, growth,
+                            params.q_face)
     e = params.cushion_restitution
     k = params.cushion_stiffness
-    qf, qp = params.F_face, coupled * params.F_plug_face
-    return [params.M1, coupled * params.M2, coupled * params.F2, coupled * 1.0, *law,
-            params.S1 + 0.0 * params.L1, coupled * params.L2, params.ram_mass, k, k / (e * e),
-            e * e, e, qf, qp, 1.0 * ((qf > 0.0) | (qp > 0.0))]
+    qf, qp = face_limit(params), coupled * plug_face_limit(params)
+    return [pipe_mass(params), coupled * plug_mass(params), coupled * inner_limit(params),
+            coupled * 1.0, law[0], law[1], law[2], law[3], wall_section(params) + 0.0 * params.L1,
+            coupled * params.L2, params.ram_mass, k, k / (e * e), e * e, e, qf, qp,
+            1.0 * ((qf > 0.0) | (qp > 0.0))]
+
+
+@jitable
+def record_into(par, values, record, rules, limits, growth):
+    """Check parameter values and write the exact solver's constants of model I (model II when
+    ``growth``) into ``par``, at once (the single-case API's compiled build).
+
+    ``values`` holds the values in the order of :data:`~pipeplug.params.PARAMETERS`, ``record``
+    the same memory as a record array of :data:`~pipeplug.params.RECORD_DTYPE`; ``rules`` and
+    ``limits`` are the table's checks (:func:`~pipeplug.params.check_rules`).
+
+    Returns the index :func:`~pipeplug.params.first_refused` gives for a refused value,
+    :data:`ELSEWHERE` for valid values that call for a ram or Smith damping (not built here),
+    else :data:`BUILT`.
+    """
+    p = record[0]
+    refused = first_refused(values, p, rules, limits)
+    if refused >= 0:
+        return refused
+    if has_ram(p) or has_damping(p):
+        return ELSEWHERE
+    constants = parameter_record(p, growth)
+    for i in range(N_PAR):
+        par[i] = constants[i]
+    return BUILT
 
 
 def state_record() -> list:
