@@ -51,6 +51,21 @@ def test_a_cushion_on_a_free_mass(e):
                                                  rel=1e-12, abs=1e-13 * mu * V0 ** 2)
 
 
+
+@pytest.mark.parametrize("k", [1e9, 3e9])
+def test_a_stiff_cushion_struck_late_parts_with_the_momentum_it_had(k):
+    # fuzz --model ram, seed 2029 (cases 3370, 5840): solve_ivp locates a terminal event to
+    # 4 eps of absolute time, 1e-15 s at t = 7 s, where a stiff cushion turns the relative
+    # velocity by 1e5 m/s^2; the ram set to the pipe's velocity there took m 1e-10 m/s of
+    # momentum out of the pair (2.5e-12 and 4.6e-12 of V0 after parting). Closed form: the
+    # parting velocities of a cushion with restitution e on a free mass.
+    e, m, t_strike = 0.6, 2.0 * M1, 7.0
+    omega = math.sqrt(k * (m + M1) / (m * M1))
+    t = np.array([t_strike + 2.0 * math.pi / omega])
+    out = simulate_ram(FREE, dict(mass=m, k=k, e=e), [(t_strike, "strike", V0)], t)
+    assert out["v_ram"][-1] == pytest.approx((m - e * M1) / (m + M1) * V0, abs=1e-13 * V0)
+    assert out["v_pipe"][-1] == pytest.approx((1.0 + e) * m / (m + M1) * V0, abs=1e-13 * V0)
+
 def test_a_direct_impact_and_a_zeno_sequence():
     e, m, tau1 = 0.5, 40.0 * M1, 2e4
     params = dict(FREE, tau1=tau1)
