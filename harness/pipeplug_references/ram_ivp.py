@@ -358,12 +358,15 @@ def _refined(event, dense, t, te):
     """
     eps = np.finfo(float).eps
     reach = 8.0 * eps * (1.0 + abs(te))
-    lo, hi = max(t, te - reach), te + reach
+    lo, hi = te - reach, te + reach
 
     def g(tt):
         return event.direction * event(tt, dense(tt))
 
-    if lo >= te or not g(lo) < 0.0 <= g(hi):
+    # an event within round-off of the piece's start keeps solve_ivp's time: its function is
+    # round-off there, where a bracket reaching back to the start would find a root at once
+    # (a ram left a ulp slower than a decelerating pipe, seed 4041 case 2210: no progress)
+    if lo <= t or not g(lo) < 0.0 <= g(hi):
         return te
     return brentq(g, lo, hi, xtol=1e-300, rtol=4.0 * eps) if g(te) != 0.0 else te
 
