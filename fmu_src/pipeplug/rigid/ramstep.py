@@ -9,8 +9,11 @@ cushion's recoverable energy, ``W_cushion`` its loss; ``W_input + W_ram = E_kine
 W_friction + W_cushion``. ``F_head`` is Q plus the cushion's force (or the force of a ram riding
 on the head); a direct impact is an impulse, whose force has no finite value: it moves the
 velocities, not ``F_head``. ``E_transferred``, the work of ``F_head`` on the head, is by the
-energy balance of ram and cushion ``W_input + W_ram`` less the ram's kinetic energy, the
-cushion's stored energy and its loss. ``stress_min`` and ``stress_max`` are the extremes over the
+work-energy theorem of pipe and plug their kinetic energy and the work of the soil's and the
+plug's friction and of the end resistance: terms that never go below 0, where the ram's side
+(``W_input + W_ram`` less the ram's kinetic energy, the cushion's stored energy and its loss)
+is a difference of energies far larger than what reaches a held pipe (1.3e-12 of ENTHRU between
+two grids). ``stress_min`` and ``stress_max`` are the extremes over the
 last communication step (the force of the cushion peaks inside a step): the axial force of the
 rigid pipe (:mod:`~pipeplug.rigid.stress`) is affine in the cushion's compression at any time
 of a piece, so its extremes lie at the ends of each piece's share of the step or where the
@@ -379,13 +382,14 @@ def ram_outputs_at(st, par, t):
     mr = par[P_RAM_M]
     kinetic_ram = 0.5 * mr * v_ram * v_ram
     held = fc * fc / (2.0 * par[P_KU]) if par[P_K] > 0.0 else 0.0
-    kinetic = 0.5 * (par[P_M1] * v1 * v1 + par[P_M2] * v2 * v2) + kinetic_ram
+    kinetic_pipe = 0.5 * (par[P_M1] * v1 * v1 + par[P_M2] * v2 * v2)
+    kinetic = kinetic_pipe + kinetic_ram
     q = st[Q] if st[Q] == st[Q] else 0.0
     head = q + fc
-    transferred = w_in + st[W_RAM] - kinetic_ram - held - loss
     area = par[P_S1]
     rest = 1.0 if ram_at_rest(st) else 0.0
     w_face = face_work_at(st, par, t) if par[P_FACE] != 0.0 else 0.0
+    transferred = kinetic_pipe + w_outer + w_inner + w_face
     return (v1, v2, u1, u2, f1, f2, w_in, w_outer + w_inner, w_outer, w_inner, kinetic, held,
             0.0, head, v_ram, st[W_RAM], loss, transferred, -head / area, st[N_LOW] / area,
             st[N_HIGH] / area, rest, st[S1], st[S2], w_face)
