@@ -145,14 +145,19 @@ def _events(g, s, q, mode, y0, merged):
 
 
 def _grips(g, s, q, y) -> bool:
-    """A pipe starting from rest with no plug: the nascent plug (V2 = k t / (3 mu) against the
-    pipe's a1 t) keeps up with it when k >= 3 mu a1 and no face resistance holds it; it then
-    stays of length 0, carried, until the pipe stops."""
-    if y[_V1] != 0.0 or g.qp > 0.0:
+    """An advancing pipe with no plug whose front soil moves with it (from rest, already
+    gripped, or a plug shorter than round-off that stuck to it): the soil grips the pipe when
+    no face resistance holds it and the pipe's acceleration a1 <= k/mu, the limit of a plug of
+    length eps -> 0 stuck to the pipe (it needs mu eps a1, it holds k eps). It then stays of
+    length 0, carried, while the pipe advances with a1 <= k/mu. (From rest, a plug growing from
+    nothing, V2 = k t/(3 mu), also solves the equations for a1 > k/(3 mu), but it is not that
+    limit, and for k/(3 mu a1) > 5/7 it is unstable.)"""
+    if not (g.gripped or y[_V1] == 0.0) or g.qp > 0.0:
+        g.gripped = False
         return False
     u1 = float(y[_U1])
     a1 = (q - s.c1(u1) - s.qf_at(u1)) / g.M1
-    g.gripped = g.k >= 3.0 * g.mu * a1
+    g.gripped = g.k >= g.mu * a1
     return g.gripped
 
 
@@ -164,7 +169,7 @@ def _decide(g, q, y, forced=(0, 0, 0)):
     if l2 <= 0.0:
         s = g.system(0.0)
         (p, _, _), _ = face_modes(s, q, float(y[_U1]), ps, 0, 0)
-        if p > 0 and not g.gripped and not _grips(g, s, q, y):
+        if p > 0 and not _grips(g, s, q, y):
             return (p, 1, 0 if g.qp > 0.0 else 1), False
         g.gripped = g.gripped and p > 0
         return (p, 0, 0), False
@@ -279,7 +284,8 @@ def simulate_growth(params: dict, segments: list, times, contact_growth: bool = 
         nonlocal mode, merged, v2_now
         if 0.0 < y[_L2] <= _EMPTY * g.L1:
             # A plug of a length below round-off of the pipe's is gone: its velocity (P over a
-            # vanishing mass) no longer tells a mode.
+            # vanishing mass) no longer tells a mode; moving with the pipe, it may grip it.
+            g.gripped = g.gripped or v2_now == y[_V1]
             y[_L2], v2_now = 0.0, 0.0
         yy = np.append(y, v2_now)
         mode, merged = _decide(g, q, yy, forced)

@@ -1,0 +1,27 @@
+"""The growing plug's reference (pipeplug_references.growth_ivp) against closed forms derived
+here: a pipe whose front soil grips it."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from pipeplug_references.growth_ivp import simulate_growth
+
+# model I, L1 = 3 m, R1 = 0.035 m, h1 = 3 mm, rho1 = 7800, rho2 = 1800 kg/m3 (the defaults)
+PIPE = dict(L1=3.0, R1=0.035, h1=0.003, rho1=7800.0, rho2=1800.0, tau2=1e4)
+M1 = 7800.0 * math.pi * (0.038 ** 2 - 0.035 ** 2) * 3.0
+KAPPA = 2.0 * 1e4 / (1800.0 * 0.035)             # k/mu = P2 tau2/(rho2 S2) [m/s^2]
+
+
+def test_front_soil_grips_a_pipe_starting_with_at_most_k_over_mu():
+    # a1 = k/(2.7 mu) (c = 0.9): the front soil moves with the pipe, L2 stays 0 (the limit of a
+    # plug of length eps stuck to it); the pipe alone without shaft friction: V1 = a1 t.
+    a1 = KAPPA / 2.7
+    times = np.array([0.002, 0.01])
+    out = simulate_growth(dict(PIPE, tau1=0.0, L2=0.0), [(0.02, M1 * a1)], times)
+    assert np.all(out["L2_now"] == 0.0) and np.all(out["W_accretion"] == 0.0)
+    np.testing.assert_allclose(out["v_pipe"], a1 * times, rtol=1e-12)
+    np.testing.assert_allclose(out["u_pipe"], 0.5 * a1 * times ** 2, rtol=1e-12)
+    assert np.all(out["v_plug"] == out["v_pipe"])
