@@ -67,13 +67,25 @@ def _v2(g, mode, y):
         return y[_V1]
     if gg == 0:
         return 0.0
+    if r < 0:           # a shrinking plug carries its velocity in the state (_shrinks)
+        return y[_P]
     return y[_P] / (g.mu * y[_L2]) if y[_L2] > 0.0 else 0.0
+
+
+def _shrinks(mode) -> bool:
+    """Whether the state's entry ``_P`` holds the plug's velocity V2 instead of its momentum:
+    while the plug leaves through the front end (r < 0) and moves. Its momentum and its
+    length then vanish together where it leaves, and V2 = P/(mu L2) is 0/0 there (DOP853 ran
+    out of step size on a plug 4e-15 m long); V2 itself is smooth: mu L2 V2' = -k L2 + e3,
+    the soil that leaves taking its own momentum."""
+    return mode[1] < 0 and mode[2] != 0
 
 
 def _rhs(g, s, q, mode, u_start):
     p, r, gg = mode
     slope, offset = s.branch(u_start, p) if p else (0.0, 0.0)
     face = -s.qf_at(u_start) if p > 0 else 0.0
+    shrinks = _shrinks(mode)
 
     def rhs(_, y):
         v1 = y[_V1] if p else 0.0
@@ -89,8 +101,10 @@ def _rhs(g, s, q, mode, u_start):
         a1 = (q - p * c1 + face - r * g.k * l2) / g.M1 if p else 0.0
         e3 = (-g.qp if gg > 0 else 0.0) if gg else 0.0
         dp = 0.0
-        if gg:
-            dp = r * g.k * l2 + e3 - (g.mu * (v2 - v1) * v2 if r < 0 else 0.0)
+        if shrinks:
+            dp = r * g.k / g.mu + (e3 / (g.mu * l2) if e3 else 0.0)
+        elif gg:
+            dp = r * g.k * l2 + e3
         return [v1, a1, v2, dp, v1 - v2, p * c1 * v1, r * g.k * l2 * (v1 - v2), -face * v1
                 - e3 * v2, 0.5 * g.mu * abs(v1 - v2) * v2 * v2]
     return rhs
@@ -291,6 +305,8 @@ def simulate_growth(params: dict, segments: list, times, contact_growth: bool = 
         mode, merged = _decide(g, q, yy, forced)
         if mode[1] == 0:
             y[_P] = g.mu * y[_L2] * y[_V1]
+        elif _shrinks(mode):
+            y[_P] = v2_now
         else:
             y[_P] = g.mu * y[_L2] * (v2_now if mode[2] else 0.0)
 
@@ -324,6 +340,8 @@ def simulate_growth(params: dict, segments: list, times, contact_growth: bool = 
             if mode[1] > 0:         # a growing plug to a share of itself (from nothing: tiny)
                 tight[_L2] = 1e-300
                 tight[_P] = 1e-3 * rtol * g.mu * max(y0[_L2], 1e-30 * g.L1) * vscale
+            elif _shrinks(mode):
+                tight[_P] = atol[_V1]
             sol = solve_ivp(_rhs(g, s, q, mode, y0[_U1]), (t, tb), y0, method="DOP853",
                             events=_events(g, s, q, mode, y0, merged) or None, rtol=rtol,
                             atol=tight, dense_output=True)

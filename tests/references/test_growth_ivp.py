@@ -1,5 +1,5 @@
 """The growing plug's reference (pipeplug_references.growth_ivp) against closed forms derived
-here: a pipe whose front soil grips it."""
+here: a pipe whose front soil grips it, a plug that slides ahead and leaves the pipe."""
 from __future__ import annotations
 
 import math
@@ -25,3 +25,23 @@ def test_front_soil_grips_a_pipe_starting_with_at_most_k_over_mu():
     np.testing.assert_allclose(out["v_pipe"], a1 * times, rtol=1e-12)
     np.testing.assert_allclose(out["u_pipe"], 0.5 * a1 * times ** 2, rtol=1e-12)
     assert np.all(out["v_plug"] == out["v_pipe"])
+
+
+def test_a_plug_sliding_ahead_of_a_held_pipe_leaves_it_entirely():
+    # A plugged pipe (L2 = L1 = 0.5 m, tau2 = 1 kPa) pushed, then stopped by its shaft: the
+    # plug slides ahead at V2' = -k/mu exactly (the soil leaving takes its own momentum), so
+    # from the pipe's stop (t_s, L_s, V_s) it leaves at t_s + tau, L_s = V_s tau - k/mu tau^2/2.
+    # (The momentum P = mu L2 V2 integrated before: V2 = P/(mu L2) was 0/0 there, the plug's
+    # end was missed and L2 fell below 0.)
+    params = dict(PIPE, L1=0.5, L2=0.5, tau1=6e4, tau2=1e3)
+    kappa = 2.0 * 1e3 / (1800.0 * 0.035)
+    load = [(0.002, 60e3)]
+    out = simulate_growth(params, load, np.linspace(0.001, 0.05, 50))
+    stops = [t for t, text in out["events"] if "pipe stops" in text]
+    leaves = [t for t, text in out["events"] if "plug leaves the pipe" in text]
+    assert len(stops) == 1 and len(leaves) == 1
+    at_stop = simulate_growth(params, load, [stops[0]])
+    length, speed = at_stop["L2_now"][0], at_stop["v_plug"][0]
+    tau = (speed - math.sqrt(speed * speed - 2.0 * kappa * length)) / kappa
+    assert leaves[0] == pytest.approx(stops[0] + tau, rel=1e-12)
+    assert np.all(out["L2_now"] >= 0.0) and out["L2_now"][-1] == 0.0
