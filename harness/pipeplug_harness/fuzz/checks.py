@@ -39,7 +39,8 @@ CHECKS: dict[str, Check] = {
     "reference": Check(1e-9, "exact vs the DOP853 reference: largest |error| / scale of "
                              "velocities, displacements and works, at every grid point"),
     "reference forces": Check(1e-9, "the same for F_outer, F_inner at points farther than "
-                                    "1e-9 T from every switch instant of the reference"),
+                                    "1e-9 T from every switch instant of the reference (their "
+                                    "scale at least the largest |Q|)"),
     "reference modes": Check(0.0, "points farther than 1e-9 T from every switch instant "
                                   "where a contact mode differs from the reference's"),
     "grid": Check(1e-12, "coarse vs fine vs irregular grid at the common sample times: "
@@ -166,15 +167,21 @@ def _scale(*arrays) -> float:
     return max(float(np.max(np.abs(a), initial=0.0)) for a in arrays)
 
 
-def reference_errors(rows, ref: dict, times, events, stop: float) -> dict[str, float]:
+def reference_errors(rows, ref: dict, times, events, stop: float,
+                     load: float = 0.0) -> dict[str, float]:
     """Values of the three reference checks for one run.
 
     ``rows`` are a run's outputs at ``times``; ``ref`` the reference's outputs at the same
     times, ``events`` its ``(time, description)`` list. Scales: the reference's peaks per
-    family (:data:`FAMILIES`).
+    family (:data:`FAMILIES`); the forces' at least ``load`` [N], the largest |Q| of the
+    case: a static force is what balances the load against the other forces, known to the
+    round-off of the load (a pipe held at rest by a window that the load meets to the last
+    digit: F_inner is 1 ulp of Q or exactly 0, the forces' peak 0).
     """
     times = np.asarray(times)
     scale = {n: _scale(*(ref[m] for m in family)) for family in FAMILIES for n in family}
+    for name in _FORCES:
+        scale[name] = max(scale[name], abs(load))
     err = max(relative_error(rows[:, COLUMN[n]], ref[n], scale[n]) for n in CONTINUOUS)
     switch = np.array(sorted(t for t, _ in events))
     window = 1e-9 * stop
