@@ -115,7 +115,6 @@ _WORKS = ("W_input", "W_friction", "W_friction_outer", "W_friction_inner", "W_fa
 #: balances the other force and the load; a work is a difference of energies. The discrete
 #: outputs (at_rest, modes) form one family each.
 FAMILIES = (("v_pipe", "v_plug"), ("u_pipe", "u_plug"), ("F_outer", "F_inner"), _WORKS)
-_FAMILY_OF = {name: family for family in FAMILIES for name in family}
 _PER_STEP_COLUMNS = frozenset(COLUMN[name] for name in PER_STEP)
 _FORCES = ("F_outer", "F_inner")
 
@@ -199,23 +198,24 @@ def reference_errors(rows, ref: dict, times, events, stop: float,
     return {"reference": err, "reference forces": forces, "reference modes": float(modes)}
 
 
-def grid_error(runs: list) -> float:
+def grid_error(runs: list, families=FAMILIES) -> float:
     """Largest difference between runs at common times, per output, relative to the scale
-    of its family (:data:`FAMILIES`) over all of them. ``runs``: outputs at the same times.
-    The outputs that describe a communication step as a whole (:data:`pipeplug.interface.
-    PER_STEP`) depend on the grid by definition and are left out."""
+    of its family (``families``, :data:`FAMILIES` by default; an output in none is a family
+    of its own) over all of them. ``runs``: outputs at the same times. The outputs that
+    describe a communication step as a whole (:data:`pipeplug.interface.PER_STEP`) depend on
+    the grid by definition and are left out."""
     stack = np.stack(runs)
-    scales = _family_scales(stack)
+    scales = _family_scales(stack, families)
     return max(relative_error(other[:, col], stack[0][:, col], scales[col])
                for col in range(stack.shape[2]) if col not in _PER_STEP_COLUMNS
                for other in stack[1:])
 
 
-def _family_scales(stack) -> list[float]:
+def _family_scales(stack, families=FAMILIES) -> list[float]:
     """Scale of each output column: the peak over ``stack[..., columns of its family]``."""
-    names = list(COLUMN)
-    return [_scale(*(stack[..., COLUMN[m]] for m in _FAMILY_OF.get(name, (name,))))
-            for name in names]
+    family_of = {name: family for family in families for name in family}
+    return [_scale(*(stack[..., COLUMN[m]] for m in family_of.get(name, (name,))))
+            for name in COLUMN]
 
 
 def energy_error(rows, body: Body) -> float:
