@@ -45,3 +45,20 @@ def test_a_plug_sliding_ahead_of_a_held_pipe_leaves_it_entirely():
     tau = (speed - math.sqrt(speed * speed - 2.0 * kappa * length)) / kappa
     assert leaves[0] == pytest.approx(stops[0] + tau, rel=1e-12)
     assert np.all(out["L2_now"] >= 0.0) and out["L2_now"][-1] == 0.0
+
+
+def test_a_heavy_plug_closes_the_ledger():
+    # fuzz 4043:100: a plug of 270 pipe masses, the pipe without shaft friction pushed back
+    # and held by its annulus while the plug cores past it backward: works of a few J, where
+    # the load's impulse over the pipe's mass estimated 2e6 J; W_accretion was 1.6e-3 off its
+    # own value. W_input = E_kinetic + W_friction + W_face + W_accretion + W_removed exactly.
+    params = dict(L1=2.0776129330690627, L2=0.05512573859779427, R1=0.035, h1=0.003,
+                  rho1=7800.0, rho2=13899896.677086992, tau1=0.0, tau2=50344.41998828079,
+                  q_face=39876788.56302614, q_plug_face=0.0, L2_after_cleanout=1.7978923779411766)
+    segments = [(0.19087329750681503, 26772.51557697181), (0.026205174804841653, -610.314482714613),
+                (0.17709503195355833, 1169.6767374358897)]
+    out = simulate_growth(params, segments, np.linspace(0.2, 0.3, 11), cleanouts=(0.2170784723116567,))
+    works = ("W_friction_outer", "W_friction_inner", "W_face", "W_accretion", "W_removed")
+    balance = out["W_input"] - out["E_kinetic"] - sum(out[n] for n in works)
+    assert out["W_accretion"][-1] > 1e-5
+    assert np.max(np.abs(balance)) <= 1e-13 * np.max(out["W_input"])
