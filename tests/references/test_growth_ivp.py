@@ -62,3 +62,19 @@ def test_a_heavy_plug_closes_the_ledger():
     balance = out["W_input"] - out["E_kinetic"] - sum(out[n] for n in works)
     assert out["W_accretion"][-1] > 1e-5
     assert np.max(np.abs(balance)) <= 1e-13 * np.max(out["W_input"])
+
+
+def test_the_plug_filling_the_pipe_is_seen_within_a_long_step():
+    # fuzz 4043:1710: a pipe coring a heavy plug held by its face moves in a quadratic, which
+    # DOP853 takes in one step: the plug filled the pipe and, the velocity turning past the
+    # pipe's stop, the length came back below L1 before the step's end, the event unseen
+    # (L2 1.9e-2 m past L1). The fill is an event, and L2 never exceeds L1.
+    params = dict(L1=1.0, L2=1.0, R1=0.035, h1=0.003, rho1=7800.0, rho2=333090.7430787556,
+                  tau1=47135.079687518264, tau2=157.3475209728314, q_face=0.0,
+                  q_plug_face=14919.94631710386, L2_after_cleanout=0.994025135393172)
+    segments = [(0.006150408446427141, -52628.12670486324),
+                (0.007955883397041133, 51502.939938659954)]
+    out = simulate_growth(params, segments, np.array([0.1, 0.1895]),
+                          cleanouts=(0.006150408446427141,))
+    assert any("plug fills the pipe" in text for _, text in out["events"])
+    assert np.all(out["L2_now"] <= 1.0)
