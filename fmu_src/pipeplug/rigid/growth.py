@@ -32,7 +32,7 @@ import math
 
 import numpy as np
 
-from ..contact.outer import contact_length, face_on, limit, segment
+from ..contact.outer import contact_length, face_on, limit, outer_contact_for, segment
 from ..interface import ModelBase, Outputs
 from . import coring
 from .face import face_modes, face_work_at
@@ -47,6 +47,7 @@ from .record import (
     P_F2,
     P_FACE,
     P_L2,
+    P_LAW,
     P_M1,
     P_M2,
     P_QF,
@@ -95,6 +96,11 @@ class RigidGrowth(ModelBase):
         self.params = params
         base = parameter_record(params, options.contact_growth)
         base[P_FACE] = 1.0              # modes always from the joint problem with end forces
+        # A plugged pipe's front takes the plug's face resistance too, in model II from U1 = 0
+        # on: the law needs that segment end even without shaft friction and q_face.
+        law = outer_contact_for(params.P1, params.L1, params.tau1, options.contact_growth,
+                                params.q_face + params.q_plug_face)
+        base[P_LAW:P_LAW + 4] = law
         self._base = base
         self._law = law_of(base)
         self.M1 = params.M1

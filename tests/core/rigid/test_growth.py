@@ -241,3 +241,26 @@ def test_front_soil_enters_a_pipe_starting_faster_than_k_over_mu():
     assert out.plug_mode == 1
     assert out.L2_now == pytest.approx((1.0 - c) * a1 * t * t / 2.0, rel=1e-5)
     assert out.v_plug == pytest.approx(c * a1 * t, rel=1e-5)
+
+
+def test_a_plugged_pipe_meets_the_plug_faces_resistance_from_the_surface_on():
+    # Model II, no shaft friction, no q_face: the plugged pipe (one body of M1 + M2) pushed
+    # back, then forward; its front (the plug's face, Qp) meets the soil only from U1 = 0 on.
+    # By hand: back to U0, V0 under -Q0; then Q/M up to U1 = 0 at t_c, (Q - Qp)/M after.
+    # (The law had no segment at U1 = 0 without tau1 and q_face: Qp acted from U1 < 0 on,
+    # fuzz 4043:2910.)
+    p = Params(**dict(BASE, tau1=0.0, tau2=1e5, L1=1.0, L2=1.0, q_plug_face=1e5))
+    m = p.M1 + p.M2
+    q0, t0, q = 1000.0, 0.01, 2000.0
+    v0, u0 = -q0 * t0 / m, -q0 * t0 ** 2 / (2.0 * m)
+    a = q / m
+    t_c = (-v0 + math.sqrt(v0 * v0 - 2.0 * a * u0)) / a
+    after = 0.005
+    model = build_model(p, {**GROW, "contact_growth": True})
+    model.advance_to(-q0, t0)
+    model.advance_to(q, t0 + t_c + after)
+    out = model.outputs()
+    v = v0 + a * t_c + (q - p.F_plug_face) / m * after
+    assert out.v_pipe == pytest.approx(v, rel=1e-12) and out.v_plug == out.v_pipe
+    assert out.W_face == pytest.approx(p.F_plug_face * ((v0 + a * t_c) * after + 0.5 * (
+        q - p.F_plug_face) / m * after ** 2), rel=1e-12)
