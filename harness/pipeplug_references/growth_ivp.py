@@ -127,7 +127,10 @@ def _events(g, s, q, mode, y0, merged):
         if r > 0:
             add(lambda y: g.L1 - y[_L2], "plug fills the pipe")
         else:
-            add(lambda y: y[_L2], "plug leaves the pipe")
+            # shorter than round-off of L1 it is gone (as at a decision): a plug held back by
+            # its face slows as qp/(mu L2) and would stop only some 1e-17 m before its end
+            # (DOP853 ran out of step size there, 4043:4590)
+            add(lambda y: y[_L2] - _EMPTY * g.L1, "plug leaves the pipe")
         if gg and g.qp > 0.0 and p:
             add(lambda y: gg * _v2(g, mode, y), "plug stops")
         if gg == 0:
@@ -437,7 +440,8 @@ def _simulate(params, segments, times, contact_growth, cleanouts, rtol, max_piec
                 v = (g.M1 * y[_V1] + m2 * v2_now) / (g.M1 + m2)
                 y[_WA] += 0.5 * (g.M1 * y[_V1] ** 2 + m2 * v2_now ** 2 - (g.M1 + m2) * v * v)
                 y[_V1] = v2_now = v
-            if "plug leaves the pipe" in fired:
+            if "plug leaves the pipe" in fired:       # its rest comes to rest ahead
+                y[_WA] += 0.5 * g.mu * y[_L2] * v2_now ** 2
                 y[_L2], v2_now = 0.0, 0.0
             if "held pipe goes" in fired:
                 forced[0] = 1 if q - r * g.k * y[_L2] > 0.0 else -1
