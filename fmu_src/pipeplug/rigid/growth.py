@@ -32,7 +32,7 @@ import math
 
 import numpy as np
 
-from ..contact.outer import contact_length, face_on, limit, segment
+from ..contact.outer import contact_length, face_on, limit, outer_contact_for, segment
 from ..interface import ModelBase, Outputs
 from . import coring
 from .face import face_modes, face_work_at
@@ -47,6 +47,7 @@ from .record import (
     P_F2,
     P_FACE,
     P_L2,
+    P_LAW,
     P_M1,
     P_M2,
     P_QF,
@@ -95,6 +96,11 @@ class RigidGrowth(ModelBase):
         self.params = params
         base = parameter_record(params, options.contact_growth)
         base[P_FACE] = 1.0              # modes always from the joint problem with end forces
+        # A plugged pipe's front takes the plug's face resistance too, in model II from U1 = 0
+        # on: the law needs that segment end even without shaft friction and q_face.
+        law = outer_contact_for(params.P1, params.L1, params.tau1, options.contact_growth,
+                                params.q_face + params.q_plug_face)
+        base[P_LAW:P_LAW + 4] = law
         self._base = base
         self._law = law_of(base)
         self.M1 = params.M1
@@ -257,8 +263,10 @@ class RigidGrowth(ModelBase):
         load = 0.0 if q != q else q
         if 0.0 < self._l2 <= _EMPTY * self.params.L1:
             # Shorter than round-off of the pipe's length: the plug is gone (its velocity, P
-            # over a vanishing mass, no longer tells a mode).
+            # over a vanishing mass, no longer tells a mode); moving with the pipe, it may
+            # grip it (_grips).
             self._set_length(0.0, u2)
+            self._gripped = self._gripped or v2 == v1
             v2 = 0.0
         l2 = self._l2
         real = self._par_for(l2, False)
@@ -268,23 +276,33 @@ class RigidGrowth(ModelBase):
         plugged = l2 >= self.params.L1
         if coupled and s2 != 0 and not (plugged and s2 > 0):
             self._begin_slide(t, u1, v1, u2, v2, w, load, (s1, s2, s3))
-        elif not coupled and s1 > 0 and not self._gripped and not self._grips(u1, v1, load):
+        elif not coupled and s1 > 0 and not self._grips(u1, v1, load):
             self._begin_slide(t, u1, v1, u2, 0.0, w, load, (s1, 1, 0 if self._qp > 0 else 1))
         else:
             self._gripped = self._gripped and not coupled and s1 > 0
             self._begin_exact(t, u1, v1, u2, v2, w, q, kick, coupled and plugged)
 
     def _grips(self, u1, v1, load) -> bool:
-        """Whether the soil at the front of a pipe starting from rest with no plug grips it at
-        once instead of entering: a plug growing from nothing under a pipe accelerating at a1
-        moves at V2 = (k/mu) t / 3 while V1 = a1 t, so with k/mu >= 3 a1 (and no face
-        resistance to hold it) it keeps up with the pipe from the start; its length stays 0
-        (the limit of a plug of vanishing length stuck to the pipe) until the pipe stops."""
-        if v1 != 0.0 or self._qp > 0.0:
+        """Whether the soil at the front of an advancing pipe with no plug grips it instead of
+        entering: the soil at the front moves with the pipe (the pipe starts from rest, or it
+        gripped it already, or a plug of vanishing length stuck to it), there is no face
+        resistance to hold it back, and the pipe's acceleration a1 is at most k/mu.
+
+        That is the limit of a plug of vanishing length eps stuck to the pipe: it stays stuck
+        while the force it needs, mu eps a1, is within its friction limit, k eps, whatever eps.
+        A plug of length 0 from rest also admits a growing solution when a1 > k/(3 mu) (the
+        self-similar V2 = c a1 t, c = k/(3 mu a1) < 1, :meth:`_nascent`), but for
+        k/mu >= a1 it is not the limit of any plug of positive length, and for c > 5/7 it is
+        unstable (its perturbations grow as t^lam, lam the larger root of
+        lam^2 - (r - 5) lam + 6 = 0, r = 2c/(1 - c)): round-off then makes the plug catch up,
+        stick, and leave the pipe again below round-off of L1, without end. The gripped
+        plug keeps length 0, moving with the pipe, while the pipe advances with a1 <= k/mu."""
+        if not (self._gripped or v1 == 0.0) or self._qp > 0.0:
+            self._gripped = False
             return False
         force0, kappa, _ = segment(self._law, u1, 1.0)
         a1 = (load + force0 - kappa * u1 - self._qf * face_on(self._law, u1)) / self.M1
-        self._gripped = self._k >= 3.0 * a1 * self._mu
+        self._gripped = self._k >= a1 * self._mu
         return self._gripped
 
     def _begin_exact(self, t, u1, v1, u2, v2, w, q, kick, merged):
@@ -316,7 +334,7 @@ class RigidGrowth(ModelBase):
         """A plug growing from nothing behind a pipe starting from rest: the start is singular
         (V2 = P/(mu L2), both 0), so the slide starts after a time ``tau`` from its
         self-similar solution, V1 = a1 t, V2 = c a1 t, L2 = (1 - c) a1 t^2/2 with
-        c = k/(3 mu a1) < 1 (:meth:`_grips`); ``tau = 1e-8 sqrt(M1/k)`` leaves the next order,
+        c = k/(3 mu a1) < 1/3 (:meth:`_grips`: stable); ``tau = 1e-8 sqrt(M1/k)`` leaves the next order,
         (k/M1) tau^2, below round-off. Returns the slide's origin ``(t, y0, V2, W_input)``."""
         u1 = y0[0]
         force0, kappa, _ = segment(self._law, u1, 1.0)

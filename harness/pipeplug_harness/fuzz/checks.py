@@ -39,7 +39,8 @@ CHECKS: dict[str, Check] = {
     "reference": Check(1e-9, "exact vs the DOP853 reference: largest |error| / scale of "
                              "velocities, displacements and works, at every grid point"),
     "reference forces": Check(1e-9, "the same for F_outer, F_inner at points farther than "
-                                    "1e-9 T from every switch instant of the reference"),
+                                    "1e-9 T from every switch instant of the reference (their "
+                                    "scale at least the largest |Q|)"),
     "reference modes": Check(0.0, "points farther than 1e-9 T from every switch instant "
                                   "where a contact mode differs from the reference's"),
     "grid": Check(1e-12, "coarse vs fine vs irregular grid at the common sample times: "
@@ -114,7 +115,6 @@ _WORKS = ("W_input", "W_friction", "W_friction_outer", "W_friction_inner", "W_fa
 #: balances the other force and the load; a work is a difference of energies. The discrete
 #: outputs (at_rest, modes) form one family each.
 FAMILIES = (("v_pipe", "v_plug"), ("u_pipe", "u_plug"), ("F_outer", "F_inner"), _WORKS)
-_FAMILY_OF = {name: family for family in FAMILIES for name in family}
 _PER_STEP_COLUMNS = frozenset(COLUMN[name] for name in PER_STEP)
 _FORCES = ("F_outer", "F_inner")
 _FRICTION_WORKS = ("W_friction", "W_friction_outer", "W_friction_inner", "W_face", "W_damping")
@@ -182,15 +182,21 @@ def _column_errors(differences, scales) -> float:
     return worst_of(ratios)
 
 
-def reference_errors(rows, ref: dict, times, events, stop: float) -> dict[str, float]:
+def reference_errors(rows, ref: dict, times, events, stop: float,
+                     load: float = 0.0) -> dict[str, float]:
     """Values of the three reference checks for one run.
 
     ``rows`` are a run's outputs at ``times``; ``ref`` the reference's outputs at the same
     times, ``events`` its ``(time, description)`` list. Scales: the reference's peaks per
-    family (:data:`FAMILIES`).
+    family (:data:`FAMILIES`); the forces' at least ``load`` [N], the largest |Q| of the
+    case: a static force is what balances the load against the other forces, known to the
+    round-off of the load (a pipe held at rest by a window that the load meets to the last
+    digit: F_inner is 1 ulp of Q or exactly 0, the forces' peak 0).
     """
     times = np.asarray(times)
     scale = {n: _scale(*(ref[m] for m in family)) for family in FAMILIES for n in family}
+    for name in _FORCES:
+        scale[name] = max(scale[name], abs(load))
     err = worst_of([relative_error(rows[:, COLUMN[n]], ref[n], scale[n]) for n in CONTINUOUS])
     switch = np.array(sorted(t for t, _ in events))
     window = 1e-9 * stop
@@ -208,24 +214,26 @@ def reference_errors(rows, ref: dict, times, events, stop: float) -> dict[str, f
     return {"reference": err, "reference forces": forces, "reference modes": float(modes)}
 
 
-def grid_error(runs: list) -> float:
+def grid_error(runs: list, families=FAMILIES) -> float:
     """Largest difference between runs at common times, per output, relative to the scale
-    of its family (:data:`FAMILIES`) over all of them. ``runs``: outputs at the same times.
-    The outputs that describe a communication step as a whole (:data:`pipeplug.interface.
-    PER_STEP`) depend on the grid by definition and are left out."""
+    of its family (``families``, :data:`FAMILIES` by default; an output in none is a family
+    of its own) over all of them. ``runs``: outputs at the same times. The outputs that
+    describe a communication step as a whole (:data:`pipeplug.interface.PER_STEP`) depend on
+    the grid by definition and are left out."""
     stack = np.stack(runs)
-    scales = _family_scales(stack)
+    scales = _family_scales(stack, families)
     columns = [col for col in range(stack.shape[2]) if col not in _PER_STEP_COLUMNS]
     differences = np.max(np.abs(stack[1:, :, columns] - stack[0][:, columns]), axis=(0, 1),
                          initial=0.0)
     return _column_errors(differences, [scales[col] for col in columns])
 
 
-def _family_scales(stack) -> list[float]:
+def _family_scales(stack, families=FAMILIES) -> list[float]:
     """Scale of each output column: the peak over ``stack[..., columns of its family]``."""
     stack = np.asarray(stack)
     peaks = np.max(np.abs(stack.reshape(-1, stack.shape[-1])), axis=0, initial=0.0)
-    return [max(float(peaks[COLUMN[m]]) for m in _FAMILY_OF.get(name, (name,)))
+    family_of = {name: family for family in families for name in family}
+    return [max(float(peaks[COLUMN[m]]) for m in family_of.get(name, (name,)))
             for name in COLUMN]
 
 

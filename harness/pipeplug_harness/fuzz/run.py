@@ -125,17 +125,19 @@ def _core(case: Case, builder, path: str, body, ref, result: CaseResult) -> list
         result.put("at rest", path, rest)
         at_samples.append(rows[np.searchsorted(grid[1:], case.samples)])
         if ref is not None:
-            _compare(result, path, rows, grid[1:], ref, case.stop)
+            _compare(result, path, rows, grid[1:], ref, case)
     result.put("grid", path, ck.grid_error(at_samples))
     return runs
 
 
-def _compare(result: CaseResult, subject: str, rows, times, ref, stop: float) -> None:
+def _compare(result: CaseResult, subject: str, rows, times, ref, case: Case) -> None:
     """The reference checks of one run at ``times``."""
     all_times, values = ref
     idx = np.searchsorted(all_times, times)
     at = {name: np.asarray(v)[idx] for name, v in values.items() if name != "events"}
-    for check, value in ck.reference_errors(rows, at, times, values["events"], stop).items():
+    load = max((abs(q) for _, q in case.segments), default=0.0)
+    for check, value in ck.reference_errors(rows, at, times, values["events"], case.stop,
+                                            load).items():
         result.put(check, subject, value)
 
 
@@ -151,7 +153,7 @@ def _fmu(case: Case, setup: Setup, style: str, ref, result: CaseResult) -> None:
     subject = f"fmu {style}"
     result.put("fmu", subject, ck.same_outputs_error(rows, core))
     if ref is not None:
-        _compare(result, subject, rows, np.array([t + h for t, h in calls]), ref, case.stop)
+        _compare(result, subject, rows, np.array([t + h for t, h in calls]), ref, case)
 
 
 def _fd(case: Case, setup: Setup, ref, result: CaseResult) -> None:

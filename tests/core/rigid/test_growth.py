@@ -208,3 +208,59 @@ def test_state_round_trip_mid_slide():
     model.set_state(state)
     model.advance(23e3, 0.004)
     assert model.outputs() == expected
+
+
+@pytest.mark.parametrize("c", [0.5, 0.9])
+def test_front_soil_grips_a_pipe_starting_with_at_most_k_over_mu(c):
+    # From rest with no plug, a pipe accelerating at a1 <= k/mu (c = k/(3 mu a1) >= 1/3) keeps
+    # its front soil: the limit of a plug of length eps stuck to it (it needs mu eps a1, it
+    # holds k eps). Pipe alone, model I without shaft friction: V1 = a1 t, U1 = a1 t^2/2.
+    # (Coring instead, the self-similar plug: for c > 5/7 unstable, it caught up, stuck and
+    # left below round-off of L1 without end, fuzz 7:611.)
+    p = Params(**dict(BASE, tau1=0.0, L2=0.0))
+    kappa = 2.0 * p.tau2 / (p.rho2 * p.R1)                 # k/mu [m/s^2]
+    a1 = kappa / (3.0 * c)
+    model = build_model(p, GROW)
+    model.advance_to(p.M1 * a1, 0.01)
+    out = model.outputs()
+    assert out.L2_now == 0.0 and out.W_accretion == 0.0 and out.plug_mode == 0
+    assert out.v_pipe == pytest.approx(a1 * 0.01, rel=1e-13) and out.v_plug == out.v_pipe
+    assert out.u_pipe == pytest.approx(0.5 * a1 * 0.01 ** 2, rel=1e-13)
+
+
+def test_front_soil_enters_a_pipe_starting_faster_than_k_over_mu():
+    # a1 > k/mu: the nascent plug, self-similar to leading order, L2 = (1 - c) a1 t^2/2 with
+    # c = k/(3 mu a1); the next order is (k/M1) t^2 ~ 1e-6 of it at t = 1e-4 s.
+    p = Params(**dict(BASE, tau1=0.0, L2=0.0))
+    kappa = 2.0 * p.tau2 / (p.rho2 * p.R1)
+    a1, t = 1.5 * kappa, 1e-4
+    c = kappa / (3.0 * a1)
+    model = build_model(p, GROW)
+    model.advance_to(p.M1 * a1, t)
+    out = model.outputs()
+    assert out.plug_mode == 1
+    assert out.L2_now == pytest.approx((1.0 - c) * a1 * t * t / 2.0, rel=1e-5)
+    assert out.v_plug == pytest.approx(c * a1 * t, rel=1e-5)
+
+
+def test_a_plugged_pipe_meets_the_plug_faces_resistance_from_the_surface_on():
+    # Model II, no shaft friction, no q_face: the plugged pipe (one body of M1 + M2) pushed
+    # back, then forward; its front (the plug's face, Qp) meets the soil only from U1 = 0 on.
+    # By hand: back to U0, V0 under -Q0; then Q/M up to U1 = 0 at t_c, (Q - Qp)/M after.
+    # (The law had no segment at U1 = 0 without tau1 and q_face: Qp acted from U1 < 0 on,
+    # fuzz 4043:2910.)
+    p = Params(**dict(BASE, tau1=0.0, tau2=1e5, L1=1.0, L2=1.0, q_plug_face=1e5))
+    m = p.M1 + p.M2
+    q0, t0, q = 1000.0, 0.01, 2000.0
+    v0, u0 = -q0 * t0 / m, -q0 * t0 ** 2 / (2.0 * m)
+    a = q / m
+    t_c = (-v0 + math.sqrt(v0 * v0 - 2.0 * a * u0)) / a
+    after = 0.005
+    model = build_model(p, {**GROW, "contact_growth": True})
+    model.advance_to(-q0, t0)
+    model.advance_to(q, t0 + t_c + after)
+    out = model.outputs()
+    v = v0 + a * t_c + (q - p.F_plug_face) / m * after
+    assert out.v_pipe == pytest.approx(v, rel=1e-12) and out.v_plug == out.v_pipe
+    assert out.W_face == pytest.approx(p.F_plug_face * ((v0 + a * t_c) * after + 0.5 * (
+        q - p.F_plug_face) / m * after ** 2), rel=1e-12)

@@ -4,15 +4,18 @@ from __future__ import annotations
 
 import json
 
-from pipeplug import build_model
+import numpy as np
+
+from pipeplug import OUTPUT_NAMES, build_model
 from pipeplug_harness.fuzz import paths
 from pipeplug_harness.fuzz.cases import Plan
+from pipeplug_harness.fuzz.checks import CHECKS, grid_error
 from pipeplug_harness.fuzz.growth_cases import (
     generate_growth,
     growth_from_json,
     growth_to_json,
 )
-from pipeplug_harness.fuzz.growth_run import run_growth_case
+from pipeplug_harness.fuzz.growth_run import GRID_FAMILIES, run_growth_case
 from pipeplug_harness.fuzz.run import Setup
 
 PLAN = Plan(reference=1, fmu=0, fd=0, model="growth")
@@ -56,3 +59,19 @@ def test_a_planted_defect_is_found(monkeypatch):
                 if c.cleanouts and c.params["L2_after_cleanout"] == 0.0)
     result = run_growth_case(case, Setup(("half",)))
     assert ("growth ledger", "half") in result.failed
+
+
+def test_the_grids_measure_the_plugs_losses_and_length_with_the_works_and_displacements():
+    # fuzz 4043:789: W_accretion 8e-3 J in a run of 2.5e5 J differed by 2.3e-14 J between
+    # grids (the integrated pieces hold 1e-13 of the pipe's scales): 2.7e-12 of its own peak,
+    # 1e-19 of the works'. A difference of 1e-11 of the works still fails.
+    a = np.zeros((1, len(OUTPUT_NAMES)))
+    a[0, OUTPUT_NAMES.index("W_input")] = 2.5e5
+    a[0, OUTPUT_NAMES.index("W_accretion")] = 8.3366e-3
+    a[0, OUTPUT_NAMES.index("L2_now")], a[0, OUTPUT_NAMES.index("u_pipe")] = 1e-3, 8.0
+    b = a.copy()
+    b[0, OUTPUT_NAMES.index("W_accretion")] += 2.3e-14
+    b[0, OUTPUT_NAMES.index("L2_now")] += 1e-15
+    assert grid_error([a, b], GRID_FAMILIES) <= 1e-15 < CHECKS["grid"].tolerance
+    b[0, OUTPUT_NAMES.index("W_accretion")] += 1e-11 * 2.5e5
+    assert grid_error([a, b], GRID_FAMILIES) > CHECKS["grid"].tolerance
