@@ -17,7 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..interface import profile_sections
-from ..jit import jitable
+from ..jit import compiled_form, jitable
 
 __all__ = ["axial_force_at", "axial_extremes", "RigidProfiles"]
 
@@ -39,17 +39,54 @@ def axial_force_at(x, head, outer, inner, L1, Lc, L2, face=0.0):
             - _spread(inner, L1 - L2, L2, x))
 
 
+def _maximum(a, b):
+    """``np.maximum(a, b)`` of two floats, value and sign of zero (of two equal values the
+    second; NaN if either is), without a ufunc call's cost."""
+    return a if (a > b or a != a) else b
+
+
+def _minimum(a, b):
+    """``np.minimum(a, b)`` of two floats, likewise."""
+    return a if (a < b or a != a) else b
+
+
+def _scalar_extremes(head, outer, inner, L1, Lc, L2, face):
+    """:func:`axial_extremes` of floats, operation for operation, with :func:`_maximum` and
+    :func:`_minimum` for numpy's (the plain-Python path calls it at every step)."""
+    def force_at(x):
+        total = head + outer + inner
+        if face != 0.0:
+            total = total + face
+        return (-head + total * (x / L1)
+                - outer * _maximum(x - (L1 - Lc), 0.0) / _maximum(Lc, 1e-300)
+                - inner * _maximum(x - (L1 - L2), 0.0) / _maximum(L2, 1e-300))
+
+    at_contact, at_plug = force_at(L1 - Lc), force_at(L1 - L2)
+    end = 0.0 * head if face == 0.0 else face + 0.0 * head
+    low = _minimum(_minimum(-head, end), _minimum(at_contact, at_plug))
+    high = _maximum(_maximum(-head, end), _maximum(at_contact, at_plug))
+    return low, high
+
+
 @jitable
-def axial_extremes(head, outer, inner, L1, Lc, L2, face=0.0):
-    """The smallest and largest axial force along the pipe [N]: of N at the head (-F_head), at
-    the front end (F_face, 0 without end resistance) and at the two breaks; floats, or arrays
-    over times (dense output)."""
+def _array_extremes(head, outer, inner, L1, Lc, L2, face=0.0):
+    """:func:`axial_extremes` with numpy's operations: floats or arrays (the compiled form)."""
     at_contact = axial_force_at(L1 - Lc, head, outer, inner, L1, Lc, L2, face)
     at_plug = axial_force_at(L1 - L2, head, outer, inner, L1, Lc, L2, face)
     end = 0.0 * head if face == 0.0 else face + 0.0 * head
     low = np.minimum(np.minimum(-head, end), np.minimum(at_contact, at_plug))
     high = np.maximum(np.maximum(-head, end), np.maximum(at_contact, at_plug))
     return low, high
+
+
+@compiled_form(_array_extremes)
+def axial_extremes(head, outer, inner, L1, Lc, L2, face=0.0):
+    """The smallest and largest axial force along the pipe [N]: of N at the head (-F_head), at
+    the front end (F_face, 0 without end resistance) and at the two breaks; floats, or arrays
+    over times (dense output)."""
+    if isinstance(head, float) and isinstance(Lc, float):
+        return _scalar_extremes(head, outer, inner, L1, Lc, L2, face)
+    return _array_extremes(head, outer, inner, L1, Lc, L2, face)
 
 
 class RigidProfiles:
