@@ -56,8 +56,8 @@ def test_validate_fails_on_a_wrong_fmu(pipeplug_cli, fmu_file, tmp_path):
         for item in src.infolist():
             data = src.read(item)
             if item.filename.endswith("pipeplug/params.py"):
-                fixed = data.replace(b"return 2.0 * math.pi * self.R1\n",
-                                     b"return 2.0 * math.pi * (self.R1 + self.h1)\n")
+                fixed = data.replace(b"return 2.0 * math.pi * p.R1\n",
+                                     b"return 2.0 * math.pi * (p.R1 + p.h1)\n")
                 assert fixed != data
                 data = fixed
             dst.writestr(item, data)
