@@ -1,4 +1,4 @@
-"""Reference solution of rigid model I with a ram, by ODE integration (independent of the core).
+"""Reference solution of rigid model I with a ram, piece by exact piece (independent of the core).
 
 Model: a rigid pipe (mass M1) with a rigid plug (mass M2) in the soil, Coulomb friction at both
 contacts (model I: the soil's limit F1 = P1 L1 tau1 is constant; the plug's F2 = P2 L2 tau2), a
@@ -26,16 +26,20 @@ plug's velocity reaching 0 is an event, a held pipe is released where Q plus the
 leaves the window the joint stuck problem allows, and ``W_face`` is booked from the
 displacements (-e1 dU1 - e3 dU2).
 
-Method: as :mod:`pipeplug_references.rigid_ivp`: the motion is cut into pieces of constant
-contact modes (pipe, plug, ram: free, loading, unloading, riding), each integrated by scipy's
-``solve_ivp`` (DOP853) with terminal events for every mode change (a velocity reaching 0, the
-largest compression, the cushion's force reaching 0, the compression reaching Dmax again, the
-ram reaching the cushion, the held pipe's or the carried plug's force reaching its friction
-limit), each terminal event's time refined from solve_ivp's 4 eps of absolute time to an ulp
-(:func:`_refined`); where the compression turns, ram and pipe take their momentum's velocity.
+Method: as :mod:`pipeplug_references.rigid_ivp`, the motion is cut into pieces of constant
+contact modes (pipe, plug, ram: free, loading, unloading, riding); but every such piece is
+linear with constant coefficients, so each is propagated exactly, by its matrix exponential
+(:class:`_Linear`, checked against scipy's ``expm`` in the tests), not integrated: a ram
+bouncing tens of times on a stiff cushion, each bounce's velocities depending on the last's,
+grows any per-piece error by 1e4, where DOP853's floor (rtol 3e-14) had shown as 1e-9. The
+events of every mode change (a velocity reaching 0, the largest compression, the cushion's
+force reaching 0, the compression reaching Dmax again, the ram reaching the cushion, the held
+pipe's or the carried plug's force reaching its friction limit) are looked for as solve_ivp
+does, a sign change between checks (:data:`STEPS` a period), and located by brentq to an ulp
+(:func:`_search`); where the compression turns, ram and pipe take their momentum's velocity.
 The events that are levels of the compression are looked for also between its turns
-(where it is monotone), as a crossing and back within one step of the integrator shows no sign
-change at the step's ends. At every event and at every load change or strike the modes are decided anew by the
+(where it is monotone), as a crossing and back between two checks shows no sign
+change at their ends. At every event and at every load change or strike the modes are decided anew by the
 joint two-contact Coulomb problem (:func:`pipeplug_references.rigid_ivp.coulomb_modes`) under
 Q plus the cushion's force; a friction force that reached its limit by the cushion's growing
 force slips in that direction. Works are bookkept from the displacements (Q dU1, F1 |dU1|,
