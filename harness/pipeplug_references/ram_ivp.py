@@ -262,7 +262,7 @@ def _piece(s, r, y, st, t, tb):
         def event(tt, z):           # z: a state (6,) or states (6, n) at times tt
             g = fun(z)
             return np.where((np.abs(g) <= band) & (tt == t), -direction * 1e-300, g)
-        event.terminal, event.direction, event.name = True, direction, name
+        event.terminal, event.direction, event.name, event.fun = True, direction, name, fun
         evs.append(event)
 
     if p != 0:
@@ -413,6 +413,17 @@ class _Linear:
                       v1 + w0 * np.cos(x) + acc0 * tau * p1])
         return z
 
+    def rate(self, tt):
+        """The state's rate of change at time(s) ``tt`` [s]: (V1, a1, V2, a2, D', a_ram)."""
+        tau = np.asarray(tt, dtype=float) - self.t
+        x = self.w * tau
+        p1, p2, _, _ = _phis(x)
+        dd = self.w0 * tau * p1 + self.acc0 * tau * tau * p2          # D - D0
+        z = self(tt)
+        a1 = self.a1 + self.g1 * dd
+        return np.array([z[1], a1, z[3], self.a2 + self.g2 * dd, z[5] - z[1],
+                         a1 + self.acc0 * np.cos(x) - self.w0 * x * p1 * self.w])
+
 
 class _Solution:
     """What :func:`_search` found: the dense motion ``sol``, ``status`` (1: a terminal event
@@ -505,10 +516,33 @@ _LEVELS = ("cushion unloaded", "reloading", "pipe breaks away +", "pipe breaks a
            "plug breaks away +", "plug breaks away -")
 
 
+#: the events of a velocity (or a relative one) reaching 0: its rate is a level of the
+#: compression (the accelerations are affine in the cushion's force), monotone between the
+#: compression's turns, so the velocity has one extreme at most between two turns
+_STOPS = ("pipe stops", "plug sticks", "plug stops")
+
+
+def _extremes(fun, dense, bounds):
+    """``bounds`` (the piece's start, the compression's turns, its end) with the times between
+    them where ``fun`` (linear in the state) of the motion ``dense`` is extreme, its rate
+    ``fun(dense.rate)`` crossing 0: between two of these, ``fun`` is monotone. A velocity
+    that dips through 0 and back between two checks of :func:`_search` (a carried pair just
+    released, decelerating while the cushion's force grows: fuzz 2029:5270) shows there."""
+    out = [bounds[0]]
+    for a, b in zip(bounds[:-1], bounds[1:]):
+        ra, rb = fun(dense.rate(a)), fun(dense.rate(b))
+        if ra * rb < 0.0:
+            out.append(brentq(lambda tt: fun(dense.rate(tt)), a, b, xtol=1e-300,
+                              rtol=4.0 * np.finfo(float).eps))
+        out.append(b)
+    return out
+
+
 def _hidden_levels(evs, sol, t, y, t_end, y_end, name):
     """The first crossing, in its direction, of a level of the compression between ``t``, the
-    compression's turns and ``t_end`` (where it is monotone), when earlier than ``t_end``:
-    ``(t_end, y_end, name)`` of the piece's end."""
+    compression's turns and ``t_end`` (where it is monotone), or of a velocity between these
+    and its extremes (:func:`_extremes`), when earlier than ``t_end``: ``(t_end, y_end,
+    name)`` of the piece's end."""
     turns = next(te for te, ev in zip(sol.t_events, evs) if ev.name == "turn")
     bounds = [t] + sorted(tt for tt in turns if t < tt < t_end) + [t_end]
 
@@ -517,10 +551,14 @@ def _hidden_levels(evs, sol, t, y, t_end, y_end, name):
 
     best = (t_end, None)
     for event in evs:
-        if event.name not in _LEVELS:
+        if event.name in _STOPS:
+            own = _extremes(event.fun, sol.sol, bounds)
+        elif event.name in _LEVELS:
+            own = bounds
+        else:
             continue
-        g = [event(tt, at(tt)) for tt in bounds]
-        for a, b, ga, gb in zip(bounds[:-1], bounds[1:], g[:-1], g[1:]):
+        g = [event(tt, at(tt)) for tt in own]
+        for a, b, ga, gb in zip(own[:-1], own[1:], g[:-1], g[1:]):
             if not event.direction * ga < 0.0 or event.direction * gb < 0.0:
                 continue
             root = b if gb == 0.0 else brentq(lambda tt, ev=event: ev(tt, at(tt)), a, b, xtol=1e-300,
