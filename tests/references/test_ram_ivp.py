@@ -407,3 +407,24 @@ def test_a_carried_pair_just_released_stops_while_the_cushion_loads():
         scale = max(np.abs(ref[n]).max() for n in family) or 1.0
         for name in family:
             assert np.abs(core[name] - ref[name]).max() <= 1e-9 * scale, name
+
+
+def test_a_pipe_set_sliding_at_t_0_by_the_cushion_goes_on():
+    # fuzz --model ram, seed 4051, case 400: the cushion's force reaches the held pipe's
+    # breakaway at t = 0 itself. The event's root, searched to an ulp of t = 0 (1e-300 s),
+    # took brentq more than its 100 iterations (an exception; 4051:1130, 1190, 1930 alike);
+    # then the pipe, set sliding with a round-off acceleration, met its "stop" 5e-301 s later,
+    # piece after piece. Against the exact solver.
+    params = {"L1": 1.0575146421935955, "L2": 0.1136359430668047, "R1": 0.035, "h1": 0.003,
+              "rho1": 7800.0, "rho2": 438559.0621279639, "tau1": 129051.07357418514,
+              "tau2": 904.5386414100905, "q_face": 0.0, "q_plug_face": 29389.45474660659}
+    ram = dict(mass=16.25847024544819, k=581132.0413718893, e=0.6006601494815387)
+    history = [(0.0, "q", 32607.13540381334), (0.0, "strike", 7.269709305565812)]
+    times = np.linspace(0.0, 4e-4, 41)[1:]
+    ref = simulate_ram(params, ram, history, times)
+    core = _core(params, ram, history, list(times))
+    assert ref["v_pipe"][-1] > 0.0
+    for family in FAMILIES:
+        scale = max(np.abs(ref[n]).max() for n in family) or 1.0
+        for name in family:
+            assert np.abs(core[name] - ref[name]).max() <= 1e-9 * scale, name
