@@ -1,4 +1,4 @@
-"""Reference solution of rigid model I with a ram, by ODE integration (independent of the core).
+"""Reference solution of rigid model I with a ram, piece by exact piece (independent of the core).
 
 Model: a rigid pipe (mass M1) with a rigid plug (mass M2) in the soil, Coulomb friction at both
 contacts (model I: the soil's limit F1 = P1 L1 tau1 is constant; the plug's F2 = P2 L2 tau2), a
@@ -26,16 +26,20 @@ plug's velocity reaching 0 is an event, a held pipe is released where Q plus the
 leaves the window the joint stuck problem allows, and ``W_face`` is booked from the
 displacements (-e1 dU1 - e3 dU2).
 
-Method: as :mod:`pipeplug_references.rigid_ivp`: the motion is cut into pieces of constant
-contact modes (pipe, plug, ram: free, loading, unloading, riding), each integrated by scipy's
-``solve_ivp`` (DOP853) with terminal events for every mode change (a velocity reaching 0, the
-largest compression, the cushion's force reaching 0, the compression reaching Dmax again, the
-ram reaching the cushion, the held pipe's or the carried plug's force reaching its friction
-limit), each terminal event's time refined from solve_ivp's 4 eps of absolute time to an ulp
-(:func:`_refined`); where the compression turns, ram and pipe take their momentum's velocity.
+Method: as :mod:`pipeplug_references.rigid_ivp`, the motion is cut into pieces of constant
+contact modes (pipe, plug, ram: free, loading, unloading, riding); but every such piece is
+linear with constant coefficients, so each is propagated exactly, by its matrix exponential
+(:class:`_Linear`, checked against scipy's ``expm`` in the tests), not integrated: a ram
+bouncing tens of times on a stiff cushion, each bounce's velocities depending on the last's,
+grows any per-piece error by 1e4, where DOP853's floor (rtol 3e-14) had shown as 1e-9. The
+events of every mode change (a velocity reaching 0, the largest compression, the cushion's
+force reaching 0, the compression reaching Dmax again, the ram reaching the cushion, the held
+pipe's or the carried plug's force reaching its friction limit) are looked for as solve_ivp
+does, a sign change between checks (:data:`STEPS` a period), and located by brentq to an ulp
+(:func:`_search`); where the compression turns, ram and pipe take their momentum's velocity.
 The events that are levels of the compression are looked for also between its turns
-(where it is monotone), as a crossing and back within one step of the integrator shows no sign
-change at the step's ends. At every event and at every load change or strike the modes are decided anew by the
+(where it is monotone), as a crossing and back between two checks shows no sign
+change at their ends. At every event and at every load change or strike the modes are decided anew by the
 joint two-contact Coulomb problem (:func:`pipeplug_references.rigid_ivp.coulomb_modes`) under
 Q plus the cushion's force; a friction force that reached its limit by the cushion's growing
 force slips in that direction. Works are bookkept from the displacements (Q dU1, F1 |dU1|,
@@ -46,7 +50,6 @@ own Coulomb solver, nothing of the project's core.
 from __future__ import annotations
 
 import numpy as np
-from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 from .face_ivp import FaceSystem, face_modes
@@ -57,7 +60,6 @@ __all__ = ["simulate_ram", "OUTPUTS", "PLASTIC"]
 OUTPUTS = ("v_pipe", "v_plug", "u_pipe", "u_plug", "v_ram", "F_head", "W_input", "W_friction",
            "W_cushion", "E_strain", "E_kinetic", "W_ram", "pipe_mode", "plug_mode", "W_face")
 PLASTIC = 1e-10          #: impacts closing slower than this share of the fastest are plastic
-RTOL = 3e-14            #: near DOP853's floor (100 eps): see simulate_ram
 MAX_STALLED = 50         #: consecutive pieces without time progress before giving up
 MAX_EVENTS = 200_000     #: mode decisions of one run before giving up
 FREE, LOAD, UNLOAD, RIDE = "free", "load", "unload", "ride"
@@ -79,7 +81,7 @@ class _Ram:
         return 0.0
 
 
-def simulate_ram(params: dict, ram: dict, history, times, *, rtol: float = RTOL) -> dict:
+def simulate_ram(params: dict, ram: dict, history, times) -> dict:
     """Model I with a ram under loads and strikes.
 
     Parameters
@@ -117,7 +119,7 @@ def simulate_ram(params: dict, ram: dict, history, times, *, rtol: float = RTOL)
     stalled = 0
     for t_next in marks:
         while t < t_next:
-            t_end, y_end, fired, sol = _piece(s, r, y, st, t, t_next, times, k, rtol)
+            t_end, y_end, fired, sol = _piece(s, r, y, st, t, t_next)
             stalled = stalled + 1 if t_end <= t else 0
             if stalled > MAX_STALLED or len(events) > MAX_EVENTS:
                 raise RuntimeError(f"no progress at t = {t!r} s ({fired})")
@@ -248,13 +250,8 @@ def _accel(s, r, q, p, rr, g, c, force):
     return a1, a2, a_ram
 
 
-def _piece(s, r, y, st, t, tb, times, k, rtol):
+def _piece(s, r, y, st, t, tb):
     q, p, rr, g, c, dmax = st["q"], st["p"], st["rr"], st["g"], st["c"], st["dmax"]
-
-    def rhs(_, z):
-        force = r.force(c, z[4], dmax)
-        a1, a2, a_ram = _accel(s, r, q, p, rr, g, c, force)
-        return (z[1], a1, z[3], a2 if s.plug else 0.0, z[5] - z[1], a_ram)
 
     evs = []
 
@@ -262,10 +259,10 @@ def _piece(s, r, y, st, t, tb, times, k, rtol):
         # At the piece's start a level met within ``band`` (round-off of its terms) counts as
         # met: a plug carried at its limit when a strike starts (the forces balanced to the
         # last digit) leaves at once as the cushion loads, whichever side of 0 it starts on.
-        def event(tt, z):
+        def event(tt, z):           # z: a state (6,) or states (6, n) at times tt
             g = fun(z)
-            return -direction * 1e-300 if abs(g) <= band and tt == t else g
-        event.terminal, event.direction, event.name = True, direction, name
+            return np.where((np.abs(g) <= band) & (tt == t), -direction * 1e-300, g)
+        event.terminal, event.direction, event.name, event.fun = True, direction, name, fun
         evs.append(event)
 
     if p != 0:
@@ -313,14 +310,7 @@ def _piece(s, r, y, st, t, tb, times, k, rtol):
         # of the integrator hides from the event above; it shows past this one
         add(lambda z: z[5] - z[1], -1, "closest approach")
         evs[-1].terminal = False
-    tiny = 1e-3 * rtol
-    scale_v = max(abs(y[1]), abs(y[3]), abs(y[5]), 1.0)
-    atol = tiny * np.array([scale_v * (tb - t + 1e-9), scale_v, scale_v * (tb - t + 1e-9),
-                            scale_v, scale_v * (tb - t + 1e-9), scale_v])
-    sol = solve_ivp(rhs, (t, tb), y.copy(), method="DOP853", events=evs or None, rtol=rtol,
-                    atol=atol, dense_output=True)
-    if sol.status < 0:
-        raise RuntimeError(sol.message)
+    sol = _search(_Linear(s, r, st, t, y), t, tb, evs)
     if c == RIDE:
         # A riding ram is one body with the pipe: its velocity is the pipe's and the
         # compression stays. Integrated apart, the two velocities end a round-off apart (the
@@ -330,7 +320,7 @@ def _piece(s, r, y, st, t, tb, times, k, rtol):
     t_end, y_end, name = tb, sol.y[:, -1].copy(), None
     if sol.status == 1:
         i = next(i for i, te in enumerate(sol.t_events) if len(te) and evs[i].terminal)
-        t_end, name = _refined(evs[i], sol.sol, t, float(sol.t_events[i][-1])), evs[i].name
+        t_end, name = float(sol.t_events[i][-1]), evs[i].name
         y_end = sol.sol(t_end)
     if c in (LOAD, UNLOAD):
         t_end, y_end, name = _hidden_levels(evs, sol, t, y, t_end, y_end, name)
@@ -341,34 +331,180 @@ def _piece(s, r, y, st, t, tb, times, k, rtol):
             hidden = [tt for tt, z in zip(sol.t_events[i], sol.y_events[i])
                       if tt <= t_end and z[4] >= touch]
             if hidden:
-                t_end = brentq(lambda tt: sol.sol(tt)[4] - touch, t, hidden[0], xtol=1e-300,
-                               rtol=4.0 * np.finfo(float).eps)
+                t_end = _root(lambda tt: sol.sol(tt)[4] - touch, t, hidden[0])
                 y_end, name = sol.sol(t_end), "ram reaches the head"
     return t_end, y_end, name, sol
 
 
-def _refined(event, dense, t, te):
-    """The time [s] of ``event`` that solve_ivp located at ``te`` (to 4 eps in absolute time,
-    ~16 ulps at t ~ 0.3 s), refined to an ulp of it in ``dense``.
+#: phi_j(x) = sum_n (-1)^n x^(2n) / (2n + j)!, j = 1..4, to below an ulp for |x| < 1 (14 terms)
+_PHI = [(-1.0) ** np.arange(14) / np.array([np.prod(np.arange(1.0, 2 * n + j + 1)) for n in range(14)])
+        for j in range(5)]
+STEPS = 64               #: event checks per period of the cushion's oscillation
+MIN_STEPS = 16           #: event checks of a piece at the least
 
-    solve_ivp stops a terminal event to an absolute 4 eps: where the cushion moves the bodies
-    at 1e5 m/s^2, that leaves a stopped pipe or a turning compression 1e-10 m/s off, snapped
-    to its event's value; a run of bounces, each one's velocities depending on the last's,
-    carries such errors on and grows them (1.7e-9 of the velocities' scale in 150 bounces).
+
+def _phis(x):
+    """``(phi1, phi2, phi3, phi4)`` of the oscillation's phase ``x = omega tau`` (an array):
+    sin x / x, (1 - cos x) / x^2, (x - sin x) / x^3, (x^2/2 - 1 + cos x) / x^4, the
+    functions of the matrix exponential of ``D'' = -omega^2 D + const`` (1, 1/2, 1/6, 1/24
+    at x = 0). A power series in x^2 below |x| = 1, where the direct forms cancel."""
+    x = np.asarray(x, dtype=float)
+    y = x * x
+    small = np.abs(x) < 1.0
+    series = [np.polyval(_PHI[j][::-1], y) for j in range(1, 5)]
+    xs = np.where(small, 1.0, x)
+    sin, cos = np.sin(xs), np.cos(xs)
+    direct = [sin / xs, (1.0 - cos) / xs ** 2, (xs - sin) / xs ** 3,
+              (0.5 * xs * xs - 1.0 + cos) / xs ** 4]
+    return [np.where(small, a, b) for a, b in zip(series, direct)]
+
+
+class _Linear:
+    """The exact motion of one piece, from the piece's start ``t`` in state ``y``.
+
+    In a piece every force is constant but the cushion's, ``f = kc D + f0`` (kc = k loading,
+    k / e^2 unloading, 0 free or riding), which acts on what moves with the head with the
+    compliance ``h1`` (1 / its mass; 0 held) and on the ram with -1/m: the compression obeys
+    ``D'' = -omega^2 D + const``, omega^2 = kc (1/m + h1), and every velocity is its start's
+    plus its start's acceleration times tau plus h kc times an integral of D - D0. Written
+    with the functions phi_j of the system's matrix exponential (:func:`_phis`), each term
+    to round-off (the reference's tests check the form against scipy's expm)::
+
+        D = D0 + W0 tau phi1 + A0 tau^2 phi2,           W = D' = W0 cos x + A0 tau phi1
+        int (D - D0) = W0 tau^2 phi2 + A0 tau^3 phi3,   int int (D - D0) = W0 tau^3 phi3 + A0 tau^4 phi4
+
+    (W0, A0 the relative velocity and acceleration at the start, x = omega tau).
     """
+
+    def __init__(self, s, r, st, t, y):
+        q, p, rr, g, c, dmax = st["q"], st["p"], st["rr"], st["g"], st["c"], st["dmax"]
+        self.t, self.y = t, y.copy()
+        f = r.force(c, y[4], dmax)
+        self.a1, self.a2, a_ram = _accel(s, r, q, p, rr, g, c, f)
+        if not s.plug:
+            self.a2 = 0.0
+        kc = {LOAD: r.k, UNLOAD: r.ku}.get(c, 0.0)
+        ride = r.m if c == RIDE else 0.0
+        if p == 0:
+            h1 = 0.0
+        elif rr == 0:
+            h1 = 1.0 / (s.M1 + s.M2 + ride)
+        else:
+            h1 = 1.0 / (s.M1 + ride)
+        h2 = h1 if (s.plug and p != 0 and rr == 0) else 0.0
+        self.g1, self.g2 = h1 * kc, h2 * kc
+        self.w = np.sqrt(kc * (1.0 / r.m + h1))
+        self.w0, self.acc0 = y[5] - y[1], a_ram - self.a1
+
+    def __call__(self, tt):
+        tau = np.asarray(tt, dtype=float) - self.t
+        y, w0, acc0 = self.y, self.w0, self.acc0
+        x = self.w * tau
+        p1, p2, p3, p4 = _phis(x)
+        t2 = tau * tau
+        i1 = w0 * t2 * p2 + acc0 * t2 * tau * p3           # int (D - D0)
+        i2 = w0 * t2 * tau * p3 + acc0 * t2 * t2 * p4       # int int (D - D0)
+        v1 = y[1] + self.a1 * tau + self.g1 * i1
+        v2 = y[3] + self.a2 * tau + self.g2 * i1
+        z = np.array([y[0] + tau * (y[1] + 0.5 * self.a1 * tau) + self.g1 * i2, v1,
+                      y[2] + tau * (y[3] + 0.5 * self.a2 * tau) + self.g2 * i2, v2,
+                      y[4] + w0 * tau * p1 + acc0 * t2 * p2,
+                      v1 + w0 * np.cos(x) + acc0 * tau * p1])
+        return z
+
+    def rate(self, tt):
+        """The state's rate of change at time(s) ``tt`` [s]: (V1, a1, V2, a2, D', a_ram)."""
+        tau = np.asarray(tt, dtype=float) - self.t
+        x = self.w * tau
+        p1, p2, _, _ = _phis(x)
+        dd = self.w0 * tau * p1 + self.acc0 * tau * tau * p2          # D - D0
+        z = self(tt)
+        a1 = self.a1 + self.g1 * dd
+        return np.array([z[1], a1, z[3], self.a2 + self.g2 * dd, z[5] - z[1],
+                         a1 + self.acc0 * np.cos(x) - self.w0 * x * p1 * self.w])
+
+
+class _Solution:
+    """What :func:`_search` found: the dense motion ``sol``, ``status`` (1: a terminal event
+    ended the piece), ``t_events`` and ``y_events`` per event, the end's state ``y[:, -1]``."""
+
+    def __init__(self, dense, status, t_events, y_events, y_end):
+        self.sol, self.status, self.t_events, self.y_events = dense, status, t_events, y_events
+        self.y = y_end[:, None]
+
+
+def _root(fun, a, b):
+    """The root [s] of ``fun`` between ``a`` and ``b`` (a sign change), to an ulp of it or to
+    4 eps of the bracket's width, whichever is wider: near t = 0 an ulp would be 1e-300 s,
+    a thousand halvings away (brentq gave up after 100)."""
     eps = np.finfo(float).eps
-    reach = 8.0 * eps * (1.0 + abs(te))
-    lo, hi = te - reach, te + reach
+    return brentq(fun, a, b, xtol=max(4.0 * eps * (b - a), 1e-300), rtol=4.0 * eps)
+
+
+def _before(event, dense, g_start):
+    """``event`` along ``dense`` for brentq from a step's start where it was ``g_start``
+    (not 0), an exact 0 counted on the start's side: near a piece's start a level snapped onto
+    (the cushion's touch) stays exactly met for a few ulps of time while the motion's change
+    rounds away, where brentq would stop at once (the ram leaving the cushion found it again
+    an ulp later, piece after piece); so the root is the first time past the level."""
+    side = np.copysign(1e-300, g_start)
 
     def g(tt):
-        return event.direction * event(tt, dense(tt))
+        value = float(event(tt, dense(tt)))
+        return value if value != 0.0 else side
+    return g
 
-    # an event within round-off of the piece's start keeps solve_ivp's time: its function is
-    # round-off there, where a bracket reaching back to the start would find a root at once
-    # (a ram left a ulp slower than a decelerating pipe, seed 4041 case 2210: no progress)
-    if lo <= t or not g(lo) < 0.0 <= g(hi):
-        return te
-    return brentq(g, lo, hi, xtol=1e-300, rtol=4.0 * eps) if g(te) != 0.0 else te
+
+def _search(dense, t, tb, evs):
+    """The events ``evs`` of the exact motion ``dense`` from ``t`` to ``tb`` [s], as solve_ivp
+    looks for them: a sign change in an event's direction between two checks (STEPS per period
+    of the oscillation, MIN_STEPS per piece at the least), its root refined by brentq to an
+    ulp; the piece ends at the first terminal event."""
+    span = tb - t
+    n = MIN_STEPS
+    if dense.w > 0.0:
+        n = max(n, int(min(np.ceil(span * dense.w * STEPS / (2.0 * np.pi)), 1e7)))
+    t_events = [[] for _ in evs]
+    y_events = [[] for _ in evs]
+    start = 0
+    block = 256
+    while start < n:
+        stop = min(start + block, n)
+        grid = t + span * np.arange(start, stop + 1) / n
+        grid[-1] = tb if stop == n else grid[-1]
+        grid[0] = t if start == 0 else grid[0]
+        zs = dense(grid)
+        values = np.array([np.broadcast_to(ev(grid, zs), grid.shape) for ev in evs])
+        for j in range(grid.size - 1):
+            a, b = grid[j], grid[j + 1]
+            found = []
+            for i, ev in enumerate(evs):
+                ga, gb = values[i, j], values[i, j + 1]
+                up, down = ga <= 0.0 <= gb, ga >= 0.0 >= gb
+                if not ((ev.direction > 0 and up) or (ev.direction < 0 and down)
+                        or (ev.direction == 0 and (up or down))):
+                    continue
+                if ga == 0.0:
+                    root = a
+                elif gb == 0.0:
+                    root = b
+                else:
+                    root = _root(_before(ev, dense, ga), a, b)
+                found.append((root, i))
+            terminal = [root for root, i in found if evs[i].terminal]
+            if found and terminal:
+                t_hit = min(terminal)
+                for root, i in sorted(found):
+                    if root <= t_hit:
+                        t_events[i].append(root)
+                        y_events[i].append(dense(root))
+                return _Solution(dense, 1, [np.array(x) for x in t_events], y_events,
+                                 dense(t_hit))
+            for root, i in sorted(found):
+                t_events[i].append(root)
+                y_events[i].append(dense(root))
+        start = stop
+    return _Solution(dense, 0, [np.array(x) for x in t_events], y_events, dense(tb))
 
 
 def _riding(dense, d):
@@ -386,10 +522,32 @@ _LEVELS = ("cushion unloaded", "reloading", "pipe breaks away +", "pipe breaks a
            "plug breaks away +", "plug breaks away -")
 
 
+#: the events of a velocity (or a relative one) reaching 0: its rate is a level of the
+#: compression (the accelerations are affine in the cushion's force), monotone between the
+#: compression's turns, so the velocity has one extreme at most between two turns
+_STOPS = ("pipe stops", "plug sticks", "plug stops")
+
+
+def _extremes(fun, dense, bounds):
+    """``bounds`` (the piece's start, the compression's turns, its end) with the times between
+    them where ``fun`` (linear in the state) of the motion ``dense`` is extreme, its rate
+    ``fun(dense.rate)`` crossing 0: between two of these, ``fun`` is monotone. A velocity
+    that dips through 0 and back between two checks of :func:`_search` (a carried pair just
+    released, decelerating while the cushion's force grows: fuzz 2029:5270) shows there."""
+    out = [bounds[0]]
+    for a, b in zip(bounds[:-1], bounds[1:]):
+        ra, rb = fun(dense.rate(a)), fun(dense.rate(b))
+        if ra * rb < 0.0:
+            out.append(_root(lambda tt: fun(dense.rate(tt)), a, b))
+        out.append(b)
+    return out
+
+
 def _hidden_levels(evs, sol, t, y, t_end, y_end, name):
     """The first crossing, in its direction, of a level of the compression between ``t``, the
-    compression's turns and ``t_end`` (where it is monotone), when earlier than ``t_end``:
-    ``(t_end, y_end, name)`` of the piece's end."""
+    compression's turns and ``t_end`` (where it is monotone), or of a velocity between these
+    and its extremes (:func:`_extremes`), when earlier than ``t_end``: ``(t_end, y_end,
+    name)`` of the piece's end."""
     turns = next(te for te, ev in zip(sol.t_events, evs) if ev.name == "turn")
     bounds = [t] + sorted(tt for tt in turns if t < tt < t_end) + [t_end]
 
@@ -398,14 +556,22 @@ def _hidden_levels(evs, sol, t, y, t_end, y_end, name):
 
     best = (t_end, None)
     for event in evs:
-        if event.name not in _LEVELS:
+        if event.name in _STOPS:
+            own = _extremes(event.fun, sol.sol, bounds)
+        elif event.name in _LEVELS:
+            own = bounds
+        else:
             continue
-        g = [event(tt, at(tt)) for tt in bounds]
-        for a, b, ga, gb in zip(bounds[:-1], bounds[1:], g[:-1], g[1:]):
+        g = [event(tt, at(tt)) for tt in own]
+        for a, b, ga, gb in zip(own[:-1], own[1:], g[:-1], g[1:]):
             if not event.direction * ga < 0.0 or event.direction * gb < 0.0:
                 continue
-            root = b if gb == 0.0 else brentq(lambda tt, ev=event: ev(tt, at(tt)), a, b, xtol=1e-300,
-                                              rtol=4.0 * np.finfo(float).eps)
+            if a == t and abs(ga) == 1e-300 and event.name in _STOPS:
+                # a velocity exactly at 0 at the start (a body just set sliding at its
+                # breakaway, its acceleration round-off there): a dip of round-off, not a
+                # stop (fuzz 4051:400 went on in steps of 5e-301 s)
+                continue
+            root = b if gb == 0.0 else _root(lambda tt, ev=event: ev(tt, at(tt)), a, b)
             if root < best[0]:
                 best = (root, event.name)
             break

@@ -32,7 +32,7 @@ import numpy as np
 from ..jit import jitable
 
 __all__ = ["motion", "travel", "state", "acceleration_at", "time_to_rest", "time_to_position",
-           "refine_root", "ulp", "line_and_sine", "POSITION", "RELATIVE_VELOCITY",
+           "refine_root", "ulp", "line_and_sine", "lag", "POSITION", "RELATIVE_VELOCITY",
            "LINE_AND_SINE"]
 
 _INF = math.inf
@@ -150,6 +150,46 @@ def _travel_curved(V0, a0, k, w, t):
     the short uniform case into its loops)."""
     S, C, dS = _basis(k, w, t)
     return V0 * S + a0 * C, V0 * dS + a0 * S
+
+
+#: 1/(2n+3)! and 1/(2n+4)!, n = 0..9: the series of (x - sin x)/x^3 and (x^2/2 - 1 + cos x)/x^4,
+#: to below an ulp for |x| < 1 (1/21! = 2e-20)
+_LAG_S = tuple((-1.0) ** n / math.factorial(2 * n + 3) for n in range(10))
+_LAG_C = tuple((-1.0) ** n / math.factorial(2 * n + 4) for n in range(10))
+
+
+@jitable
+def _series(coef, y):
+    total = coef[9]
+    for n in range(8, -1, -1):
+        total = total * y + coef[n]
+    return total
+
+
+@jitable
+def lag(k, w, t):
+    """``(t - S, t^2/2 - C)`` of a harmonic motion (``k > 0``) at time(s) ``t`` [s]: what a
+    motion's displacement lags behind its uniform part, ``(x - sin x)/w`` and
+    ``(x^2/2 - 1 + cos x)/w^2`` (x = w t), in [s] and [s^2].
+
+    Apart, so that a displacement that is a small difference of a uniform and a harmonic
+    motion (a pipe creeping while the cushion loads) keeps its digits: written as ``t - S``
+    both terms are ~ t and cancel to ~ t x^2/6. Below |x| = 1 a series in x^2, above it the
+    direct form (x - sin x >= x/6 there: a few ulps).
+    """
+    x = w * t
+    y = x * x
+    if isinstance(t, float):
+        if abs(x) < 1.0:
+            return t * y * _series(_LAG_S, y), t * t * y * _series(_LAG_C, y)
+        return t - math.sin(x) / w, t * t * (0.5 - (1.0 - math.cos(x)) / y)
+    small = np.abs(x) < 1.0
+    safe = np.where(small, 1.0, y)
+    ws = np.where(small, 1.0, w)
+    far_s = t - np.sin(x) / ws
+    far_c = t * t * (0.5 - (1.0 - np.cos(x)) / safe)
+    ss, sc = _series(_LAG_S, y), _series(_LAG_C, y)
+    return np.where(small, t * y * ss, far_s), np.where(small, t * t * y * sc, far_c)
 
 
 @jitable

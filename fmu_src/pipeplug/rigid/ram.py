@@ -63,7 +63,16 @@ import math
 from ..contact.outer import face_on, limit, segment
 from ..jit import jitable
 from .face import face_modes, make_face_piece
-from .motion import LINE_AND_SINE, line_and_sine, motion, refine_root, time_to_rest, travel, ulp
+from .motion import (
+    LINE_AND_SINE,
+    lag,
+    line_and_sine,
+    motion,
+    refine_root,
+    time_to_rest,
+    travel,
+    ulp,
+)
 from .pieces import (
     AT_REST,
     BOTH_SLIDE,
@@ -433,10 +442,15 @@ def travels(st, par, dt):
     d1, v1 = travel(pipe_of(st), dt)
     rho = st[RHO]
     if rho != 0.0:
-        # U = (centre of mass) - rho delta: from the origin, the uniform part plus rho times
-        # the compression's own velocity at the origin less its actual change
-        dd, dv = travel(rel_of(st), dt)
-        d1 = d1 + rho * (st[DV] * dt - dd)
+        # U = (centre of mass) - rho delta. The displacement as the pipe's own uniform part
+        # (its velocity and acceleration at the origin) plus rho times the compression's lag
+        # behind its own uniform part, each term without cancellation: as the centre's
+        # travel less rho times the compression's change, two ~1e-9 m terms left a pipe
+        # creeping at 1e-16 m/s a displacement of either sign (friction work falling)
+        dv = travel(rel_of(st), dt)[1]
+        lag_s, lag_c = lag(st[DK], st[DW], dt)
+        own = st[A1] - rho * st[DA]
+        d1 = dt * (st[V1] + 0.5 * own * dt) + rho * (st[DV] * lag_s + st[DA] * lag_c)
         v1 = v1 + rho * (st[DV] - dv)
     if st[KIND] == TOGETHER and par[P_COUPLED] != 0.0:
         return d1, v1, d1, v1

@@ -156,3 +156,59 @@ def test_a_pipe_held_through_a_strike_takes_no_energy(compiled):
     assert np.all(rows[:, column("v_pipe")] == 0.0)
     assert rows[:, column("W_cushion")].max() > 0.0          # the strike happened
     assert np.all(rows[:, column("E_transferred")] == 0.0)
+
+
+def _largest_decrease(rows, names=("W_friction", "W_friction_outer", "W_friction_inner",
+                                   "W_face")):
+    column = OUTPUT_NAMES.index
+    return max(np.max(np.r_[0.0, -np.diff(np.r_[0.0, rows[:, column(n)]])]) for n in names)
+
+
+@pytest.mark.parametrize("case", ["2029:3594", "4041:5697"])
+def test_a_pipe_creeping_while_the_cushion_loads_never_takes_friction_work_back(case,
+                                                                                compiled):
+    # fuzz --model ram on the irregular grid: a pipe creeping at ~1e-16 m/s while the cushion
+    # loads. Its displacement in a piece was the centre of mass's travel less rho times the
+    # compression's change, two ~1e-9 m terms whose difference had either sign from one
+    # sample to the next: W_friction_outer and W_face fell by 7e-30 and 3e-29 J (3594), the
+    # plug's W_friction_inner by 2e-21 J (5697). Works of friction and end resistance never
+    # decrease (tolerance 0).
+    if case == "2029:3594":
+        params = {"L1": 0.8663820149198495, "L2": 0.020520536395308774, "R1": 0.035,
+                  "h1": 0.003, "rho1": 7800.0, "rho2": 5554386.561937114,
+                  "tau1": 71108.3617629131, "tau2": 4718934.6978515955,
+                  "q_face": 91450326.41387168, "q_plug_face": 0.0,
+                  "ram_mass": 15.68077802935387, "cushion_stiffness": 81031.12586624654,
+                  "cushion_restitution": 0.39056117956795455}
+        segments = [(3.246126751402729e-05, 21520.863237112564),
+                    (0.016269841106066326, 77627.98139027195)]
+        strikes = {0.0: 2.8238930296779996, 3.246126751402729e-05: 2.7401538017324754}
+        grid = np.array([
+            0.0, 1.898445916837783e-09, 3.4788571294521653e-09, 3.4995094219357755e-09,
+            7.832398434776453e-09, 3.3624969820176515e-08, 4.6120160441327476e-08,
+            5.852194799155175e-08, 6.571487158003923e-08, 6.617510115490301e-08,
+            1.4255554685579004e-07, 1.6301816576370457e-07, 1.7199315247762318e-07,
+            1.7569534084952934e-07, 1.9355370120479657e-07, 2.2170488934584385e-07,
+            2.2361770112991748e-07, 3.3282007738215273e-07, 5.619784329004988e-07,
+            7.589148591620155e-07, 8.225353095739762e-07, 8.507235474395736e-07,
+            1.2181025734251529e-06, 1.681508773301575e-06, 1.7118311223124792e-06,
+            1.7516830599205022e-06, 1.8255616270074297e-06, 1.866796517664348e-06,
+            2.0636226742092065e-06, 2.187004760115838e-06, 2.7884849641619855e-06,
+            3.8513692215114225e-06, 4.56589154304866e-06, 4.879375909631285e-06,
+            7.929854135996194e-06, 8.126207206749022e-06, 8.361462784595219e-06,
+            1.0003315089112364e-05, 1.2341105492527887e-05, 1.321319051570244e-05,
+            1.796566103882332e-05, 2.1819859897876207e-05, 2.691849850077995e-05,
+            3.246126751402729e-05, 3.246227118601851e-05, 3.2462302027428324e-05])
+    else:
+        params = {"L1": 1.0, "L2": 1.0, "R1": 0.035, "h1": 0.003, "rho1": 7800.0,
+                  "rho2": 415953.4330834725, "tau1": 69257.36861971515,
+                  "tau2": 16046.127821272128, "ram_mass": 49.34067265427454,
+                  "cushion_stiffness": 104007.61472491644,
+                  "cushion_restitution": 0.9090954766668446}
+        segments = [(0.0009134421107191883, 20076.519048761136), (1.0, 59729.97776673596)]
+        strikes = {0.0: 3.573673533459001}
+        grid = np.array([0.0, 2.120162830035823e-09, 2.681784073170012e-09,
+                         2.68685690942567e-09])
+    rows = _run(params, segments, strikes, grid, compiled)
+    assert rows[-1, OUTPUT_NAMES.index("W_friction")] > 0.0       # the pipe does move
+    assert _largest_decrease(rows) == 0.0

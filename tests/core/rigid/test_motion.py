@@ -42,3 +42,30 @@ def test_time_to_position_hits_the_target():
     t = time_to_position(m, 1.0, time_to_rest(m, 1))
     assert state(m, t)[0] == pytest.approx(1.0, abs=1e-15)
     assert time_to_position(m, 100.0, time_to_rest(m, 1)) == math.inf
+
+
+def test_lag_is_the_harmonic_motions_lag_to_round_off():
+    # (x - sin x)/w and (x^2/2 - 1 + cos x)/w^2 against their Taylor series summed in exact
+    # rational arithmetic (60 terms: far below an ulp for x <= 8), across the switch at x = 1
+    from fractions import Fraction
+
+    from pipeplug.rigid.motion import lag
+
+    def series(x, first):
+        total, term, n = Fraction(0), x ** first, first
+        for j in range(60):
+            total += (-1) ** j * term / math.factorial(n)
+            term, n = term * x * x, n + 2
+        return total
+
+    w = 7.5e4
+    for x in (1e-9, 1e-3, 0.3, 0.999, 1.0, 1.001, 2.0, 8.0):
+        t = x / w
+        exact_x = Fraction(w) * Fraction(t)
+        want_s = series(exact_x, 3) / Fraction(w)
+        want_c = series(exact_x, 4) / Fraction(w) ** 2
+        got_s, got_c = lag(w * w, w, t)
+        assert abs(Fraction(got_s) - want_s) <= 8 * np.finfo(float).eps * want_s
+        assert abs(Fraction(got_c) - want_c) <= 8 * np.finfo(float).eps * want_c
+        arr_s, arr_c = lag(w * w, w, np.array([t, t]))
+        assert arr_s[0] == got_s and arr_c[1] == got_c
