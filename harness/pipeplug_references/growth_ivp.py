@@ -194,7 +194,10 @@ def _decide(g, q, y, forced=(0, 0, 0)):
     rs = forced[1] or int(np.sign(y[_V1] - y[-1]))
     gs = forced[2] or int(np.sign(y[-1]))
     mode, _ = face_modes(s, q, float(y[_U1]), ps, rs, gs)
-    if l2 >= g.L1 and mode[1] > 0:
+    # A full plug that does not slide ahead is one body with the pipe, also at rest: its face
+    # is the body's front (model II: in the soil from U1 = 0 on). Held as a plug of its own
+    # it took Qp at U1 < 0 and kept a pushed pipe at rest there (fuzz 4043:6970).
+    if l2 >= g.L1 and mode[1] >= 0:
         sm = g.system(l2, merged=True)
         (p, _, _), _ = face_modes(sm, q, float(y[_U1]), ps, 0, 0)
         return (p, 0, p), True

@@ -99,3 +99,29 @@ def test_a_plug_held_back_by_its_face_leaves_the_pipe():
     works = ("W_friction_outer", "W_friction_inner", "W_face", "W_accretion", "W_removed")
     balance = out["W_input"] - out["E_kinetic"] - sum(out[n] for n in works)
     assert np.max(np.abs(balance)) <= 1e-12 * np.max(out["W_input"])
+
+
+def test_a_plugged_pipe_stopped_behind_the_surface_goes_on_to_the_soil():
+    # fuzz 4043:6970: model II, a full plug (L2 = L1), no shaft friction: the body (M1 + M2)
+    # pushed back by -Q0 for t0, then forward by Q < Qp. It stops at U_s < 0, where nothing
+    # resists it (the plug's face, the body's front, meets the soil from U1 = 0 on): by hand,
+    # it comes back, enters the soil and stops for good at U_f, Q (U_f - U_s) = Qp U_f.
+    # (The reference held the full plug as a plug of its own at rest: its face took Qp at
+    # U1 < 0 and kept the pipe at U_s.)
+    params = dict(L1=1.0, L2=1.0, R1=0.035, h1=0.003, rho1=7800.0, rho2=1800.0, tau1=0.0,
+                  tau2=1e5, q_plug_face=1e6)
+    qp = 1e6 * math.pi * 0.035 ** 2
+    m = 7800.0 * math.pi * (0.038 ** 2 - 0.035 ** 2) + 1800.0 * math.pi * 0.035 ** 2
+    q0, t0, q = 1000.0, 0.01, 2000.0
+    v0, u0 = -q0 * t0 / m, -q0 * t0 ** 2 / (2.0 * m)
+    u_s = u0 - v0 * v0 * m / (2.0 * q)
+    u_f = -q * u_s / (qp - q)
+    t_s = t0 + q0 * t0 / q                  # the stop; the velocity's scale is measured
+    times = np.sort(np.append(np.linspace(0.002, 0.2, 100), t_s))    # on the samples
+    out = simulate_growth(params, [(t0, -q0), (1.0, q)], times, True)
+    assert u_s < 0.0 < u_f
+    np.testing.assert_allclose(np.min(out["u_pipe"]), u_s, rtol=1e-12)
+    np.testing.assert_allclose(out["u_pipe"][-1], u_f, rtol=1e-12)
+    np.testing.assert_allclose(out["W_face"][-1], qp * u_f, rtol=1e-12)
+    assert out["v_pipe"][-1] == 0.0
+    np.testing.assert_allclose(out["u_plug"], out["u_pipe"], rtol=0.0, atol=1e-15)
