@@ -110,7 +110,8 @@ def _rhs(g, s, q, mode, u_start):
     return rhs
 
 
-def _events(g, s, q, mode, y0, merged):
+def _events(g, s, q, mode, y0, merged, v_tol):
+    """The piece's terminal events; ``v_tol`` [m/s]: the velocities' round-off (below)."""
     p, r, gg = mode
     evs = []
 
@@ -123,7 +124,13 @@ def _events(g, s, q, mode, y0, merged):
     if p:
         add(lambda y: p * y[_V1], "pipe stops")
     if r:
-        add(lambda y: r * (y[_V1] - _v2(g, mode, y)), "plug sticks")
+        # A slip that starts from relative rest (a plug breaking away, where the accelerations
+        # are equal) sticks only once the relative velocity has come back by more than its
+        # round-off: an event root located some ulps off left the relative acceleration
+        # below round-off of the wrong sign, and the plug stuck again at once, without end
+        # (fuzz 4043:7540 and 7910).
+        rest = max(v_tol, 1e-15 * abs(y0[_V1])) if y0[_V1] == _v2(g, mode, y0) else 0.0
+        add(lambda y: r * (y[_V1] - _v2(g, mode, y)) + rest, "plug sticks")
         if r > 0:
             add(lambda y: g.L1 - y[_L2], "plug fills the pipe")
         else:
@@ -147,9 +154,12 @@ def _events(g, s, q, mode, y0, merged):
         slope, offset = s.branch(u_start, p)
         face = -s.qf_at(u_start) if p > 0 else 0.0
         e3 = -g.qp if p > 0 and (not merged or s.qf_at(u_start) > 0.0) else 0.0
+        # the body's end force: the merged body's face holds the plug's already (e3 counted
+        # twice broke a plugged pipe's plug away too early: fuzz 4043:7540)
+        ends = face if merged else face + e3
 
         def f2(y):
-            a = (q - p * (slope * y[_U1] + offset) + face + e3) / (g.M1 + m2)
+            a = (q - p * (slope * y[_U1] + offset) + ends) / (g.M1 + m2)
             return -(m2 * a - e3)
         add(lambda y: c2 - f2(y), "plug breaks away ahead")
         if not merged:
@@ -395,14 +405,13 @@ def _simulate(params, segments, times, contact_growth, cleanouts, rtol, max_piec
                 tight[_P] = 1e-3 * rtol * g.mu * max(y0[_L2], 1e-30 * g.L1) * vscale
             elif _shrinks(mode):
                 tight[_P] = atol[_V1]
+            evs = _events(g, s, q, mode, y0, merged, atol[_V1])
             sol = solve_ivp(_rhs(g, s, q, mode, y0[_U1]), (t, tb), y0, method="DOP853",
-                            events=_events(g, s, q, mode, y0, merged) or None, rtol=rtol,
-                            atol=tight, dense_output=True)
+                            events=evs or None, rtol=rtol, atol=tight, dense_output=True)
             if sol.status < 0:
                 raise RuntimeError(sol.message)
             fired = None
             t_end, y_end = tb, sol.y[:, -1].copy()
-            evs = _events(g, s, q, mode, y0, merged)
             hits = [(te[0], i) for i, te in enumerate(sol.t_events or ()) if len(te)]
             hits += _crossed_twice(evs, sol, min(hits)[0] if hits else tb)
             if hits:

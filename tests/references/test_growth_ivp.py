@@ -125,3 +125,27 @@ def test_a_plugged_pipe_stopped_behind_the_surface_goes_on_to_the_soil():
     np.testing.assert_allclose(out["W_face"][-1], qp * u_f, rtol=1e-12)
     assert out["v_pipe"][-1] == 0.0
     np.testing.assert_allclose(out["u_plug"], out["u_pipe"], rtol=0.0, atol=1e-15)
+
+
+def test_a_plugged_pipes_plug_breaks_away_ahead_where_its_friction_ends():
+    # fuzz 4043:7540: model II, a full plug pushed with the pipe as one body (M = M1 + M2)
+    # against the growing shaft friction k1 U1 and the plug's face Qp. The plug follows the
+    # body's deceleration a while the force it needs from the pipe, M2 a + Qp, is at least
+    # -c2 (c2 = k L1; the head pushes it, only friction pulls it): by hand, it breaks away
+    # ahead at M (Q - k1 U_b - Qp)/M = -(c2 + Qp)/M2. (The reference counted Qp twice in
+    # the body's deceleration there and broke it away 7.9e-4 m early.)
+    r1, tau1, tau2, q_plug = 0.035, 199437.7242976858, 57.684789699749395, 9730.594191097429
+    params = dict(L1=1.0, L2=1.0, R1=r1, h1=0.003, rho1=7800.0, rho2=15.98900618559651,
+                  tau1=tau1, tau2=tau2, q_plug_face=q_plug)
+    s2 = math.pi * r1 ** 2
+    m2 = 15.98900618559651 * s2
+    m = 7800.0 * math.pi * (0.038 ** 2 - r1 ** 2) + m2
+    k1, c2, qp, q = 2.0 * math.pi * 0.038 * tau1, 2.0 * math.pi * r1 * tau2, q_plug * s2, 36718.0
+    u_b = (q - qp + m * (c2 + qp) / m2) / k1
+    out = simulate_growth(params, [(0.03, q)], np.linspace(0.001, 0.03, 30), True)
+    breaks = [t for t, text in out["events"] if "plug breaks away ahead" in text]
+    assert len(breaks) == 1 and u_b < 1.0
+    at_break = simulate_growth(params, [(0.03, q)], np.append(np.linspace(0.001, 0.017, 17),
+                                                              breaks[0]), True)
+    assert at_break["u_pipe"][-1] == pytest.approx(u_b, rel=1e-12)
+    assert np.all(out["L2_now"] <= 1.0) and np.all(out["W_accretion"] >= 0.0)
