@@ -61,7 +61,8 @@ class _Growth:
         return s
 
 
-def _v2(g, mode, y):
+def _v2(g, mode, y, l2_0=0.0):
+    """The plug's velocity in the state ``y`` whose length entry is ``L2 - l2_0`` [m]."""
     p, r, gg = mode
     if r == 0:
         return y[_V1]
@@ -69,7 +70,8 @@ def _v2(g, mode, y):
         return 0.0
     if r < 0:           # a shrinking plug carries its velocity in the state (_shrinks)
         return y[_P]
-    return y[_P] / (g.mu * y[_L2]) if y[_L2] > 0.0 else 0.0
+    l2 = l2_0 + y[_L2]
+    return y[_P] / (g.mu * l2) if l2 > 0.0 else 0.0
 
 
 def _shrinks(mode) -> bool:
@@ -81,7 +83,7 @@ def _shrinks(mode) -> bool:
     return mode[1] < 0 and mode[2] != 0
 
 
-def _rhs(g, s, q, mode, u_start):
+def _rhs(g, s, q, mode, u_start, l2_0):
     p, r, gg = mode
     slope, offset = s.branch(u_start, p) if p else (0.0, 0.0)
     face = -s.qf_at(u_start) if p > 0 else 0.0
@@ -89,7 +91,7 @@ def _rhs(g, s, q, mode, u_start):
 
     def rhs(_, y):
         v1 = y[_V1] if p else 0.0
-        l2 = y[_L2]
+        l2 = l2_0 + y[_L2]
         c1 = slope * y[_U1] + offset
         if r == 0:      # (merged: the plug's face is in the body's, s.qf, s.qp = 0)
             e3 = -s.qp if (p > 0 and l2 > 0.0) else 0.0
@@ -97,7 +99,7 @@ def _rhs(g, s, q, mode, u_start):
             carried = v1 if (l2 > 0.0 or g.gripped) else 0.0
             return [v1, a1, carried, g.mu * l2 * a1, 0.0, p * c1 * v1, 0.0, -(face + e3) * v1,
                     0.0]
-        v2 = _v2(g, mode, y)
+        v2 = _v2(g, mode, y, l2_0)
         a1 = (q - p * c1 + face - r * g.k * l2) / g.M1 if p else 0.0
         e3 = (-g.qp if gg > 0 else 0.0) if gg else 0.0
         dp = 0.0
@@ -110,10 +112,14 @@ def _rhs(g, s, q, mode, u_start):
     return rhs
 
 
-def _events(g, s, q, mode, y0, merged, v_tol):
-    """The piece's terminal events; ``v_tol`` [m/s]: the velocities' round-off (below)."""
+def _events(g, s, q, mode, y0, merged, v_tol, l2_0):
+    """The piece's terminal events on its state from ``y0``, whose length entry is
+    ``L2 - l2_0`` [m]; ``v_tol`` [m/s]: the velocities' round-off (below)."""
     p, r, gg = mode
     evs = []
+
+    def v2(y):
+        return _v2(g, mode, y, l2_0)
 
     def add(fun, name, direction=-1):
         def event(t, y):
@@ -130,23 +136,23 @@ def _events(g, s, q, mode, y0, merged, v_tol):
         # below round-off of the wrong sign, and the plug stuck again at once, without end
         # (fuzz 4043:7540 and 7910).
         rest = max(v_tol, 1e-15 * abs(y0[_V1])) if y0[_V1] == _v2(g, mode, y0) else 0.0
-        add(lambda y: r * (y[_V1] - _v2(g, mode, y)) + rest, "plug sticks")
+        add(lambda y: r * (y[_V1] - v2(y)) + rest, "plug sticks")
         if r > 0:
-            add(lambda y: g.L1 - y[_L2], "plug fills the pipe")
+            add(lambda y: (g.L1 - l2_0) - y[_L2], "plug fills the pipe")
         else:
             # shorter than round-off of L1 it is gone (as at a decision): a plug held back by
             # its face slows as qp/(mu L2) and would stop only some 1e-17 m before its end
             # (DOP853 ran out of step size there, 4043:4590)
-            add(lambda y: y[_L2] - _EMPTY * g.L1, "plug leaves the pipe")
+            add(lambda y: (l2_0 - _EMPTY * g.L1) + y[_L2], "plug leaves the pipe")
         if gg and g.qp > 0.0 and p:
-            add(lambda y: gg * _v2(g, mode, y), "plug stops")
+            add(lambda y: gg * v2(y), "plug stops")
         if gg == 0:
-            add(lambda y: g.qp - r * g.k * y[_L2], "held plug goes")
-            add(lambda y: r * g.k * y[_L2] + 1e-300, "held plug goes")
+            add(lambda y: g.qp - r * g.k * (l2_0 + y[_L2]), "held plug goes")
+            add(lambda y: r * g.k * (l2_0 + y[_L2]) + 1e-300, "held plug goes")
         if p == 0:
             c1, qf = s.c1(y0[_U1]), s.qf_at(y0[_U1])
-            add(lambda y: c1 + qf - (q - r * g.k * y[_L2]), "held pipe goes")
-            add(lambda y: c1 + (q - r * g.k * y[_L2]), "held pipe goes")
+            add(lambda y: c1 + qf - (q - r * g.k * (l2_0 + y[_L2])), "held pipe goes")
+            add(lambda y: c1 + (q - r * g.k * (l2_0 + y[_L2])), "held pipe goes")
     if p and r == 0 and y0[_L2] > 0.0 and s.dc1(y0[_U1], p) > 0.0:
         u_start = y0[_U1]
         m2 = g.mu * y0[_L2]
@@ -401,28 +407,45 @@ def _simulate(params, segments, times, contact_growth, cleanouts, rtol, max_piec
             s = g.system(0.0 if y0[_L2] <= 0.0 else y0[_L2], merged)
             tight = atol.copy()
             if mode[1] > 0:         # a growing plug to a share of itself (from nothing: tiny)
-                tight[_L2] = 1e-300
+                tight[_L2] = rtol * y0[_L2] + 1e-300      # (it holds the change: below)
                 tight[_P] = 1e-3 * rtol * g.mu * max(y0[_L2], 1e-30 * g.L1) * vscale
             elif _shrinks(mode):
                 tight[_P] = atol[_V1]
-            evs = _events(g, s, q, mode, y0, merged, atol[_V1])
-            sol = solve_ivp(_rhs(g, s, q, mode, y0[_U1]), (t, tb), y0, method="DOP853",
+            # A growing plug's length is integrated as its change since the piece's start: it
+            # fills the pipe at a relative displacement of L1 - L2, not where a length near L1
+            # held to its round-off says so (fuzz 4043:6960: the fill 6e-14 s off, the
+            # velocity after it 1e-8 of itself). A shrinking one's is its length itself,
+            # precise where it leaves the pipe (there its face's force goes as 1/L2).
+            l2_0 = y0[_L2] if mode[1] > 0 else 0.0
+            start = y0.copy()
+            start[_L2] -= l2_0
+            evs = _events(g, s, q, mode, y0, merged, atol[_V1], l2_0)
+            sol = solve_ivp(_rhs(g, s, q, mode, y0[_U1], l2_0), (t, tb), start, method="DOP853",
                             events=evs or None, rtol=rtol, atol=tight, dense_output=True)
             if sol.status < 0:
                 raise RuntimeError(sol.message)
+
+            def state(at, sol=sol, l2_0=l2_0):
+                ys = sol.sol(at)
+                ys[_L2] += l2_0
+                return ys
             fired = None
             t_end, y_end = tb, sol.y[:, -1].copy()
+            y_end[_L2] += l2_0
             hits = [(te[0], i) for i, te in enumerate(sol.t_events or ()) if len(te)]
             hits += _crossed_twice(evs, sol, min(hits)[0] if hits else tb)
             if hits:
                 t_end, i = min(hits)
-                y_end = (sol.y_events[i][0] if len(sol.t_events[i]) and sol.t_events[i][0]
-                         == t_end else sol.sol(t_end)).copy()
+                if len(sol.t_events[i]) and sol.t_events[i][0] == t_end:
+                    y_end = sol.y_events[i][0].copy()
+                    y_end[_L2] += l2_0
+                else:
+                    y_end = state(t_end)
                 fired = {evs[j].name for te, j in hits if te - t_end <= 1e-14 * max(t_end, 1.0)}
             idx = np.nonzero((times >= t) & (times <= t_end))[0]
             idx = idx[idx >= k]
             if len(idx):
-                record(idx, sol.sol(times[idx]), mode, w0, y0[_U1], q)
+                record(idx, state(times[idx]), mode, w0, y0[_U1], q)
                 k = idx[-1] + 1
             w_in = w0 + q * (y_end[_U1] - y0[_U1])
             stalled = stalled + 1 if t_end <= t else 0

@@ -264,3 +264,41 @@ def test_a_plugged_pipe_meets_the_plug_faces_resistance_from_the_surface_on():
     assert out.v_pipe == pytest.approx(v, rel=1e-12) and out.v_plug == out.v_pipe
     assert out.W_face == pytest.approx(p.F_plug_face * ((v0 + a * t_c) * after + 0.5 * (
         q - p.F_plug_face) / m * after ** 2), rel=1e-12)
+
+
+def _filling_by_a_hair():
+    """fuzz 4043:6960: model I without shaft friction, a plug held by its face 2^-30 m short
+    of the head (L1 = 1 m), cored from rest by Q: by hand, M1 x'' = Q - k (L0 + x) until
+    x = d = L1 - L0, sin(w t_f / 2) = (k d / 2F)^(1/2) (F = Q - k L0, w^2 = k/M1), then a plastic
+    impact with the plug at rest and the body under Q - Qp. Returns (params, t_f, the
+    velocity at t_f + dt as a function of dt)."""
+    r1, d = 0.035, 2.0 ** -30
+    m1 = 7800.0 * math.pi * ((r1 + 0.003) ** 2 - r1 ** 2)
+    mu, k = 1800.0 * math.pi * r1 ** 2, 2.0 * math.pi * r1 * 1e4
+    q, qp = 1e4, 1.5 * k
+    params = dict(L1=1.0, L2=1.0 - d, R1=r1, h1=0.003, rho1=7800.0, rho2=1800.0, tau1=0.0,
+                  tau2=1e4, q_plug_face=qp / (math.pi * r1 ** 2))
+    f, w = q - k * (1.0 - d), math.sqrt(k / m1)
+    s = math.sqrt(k * d / (2.0 * f))
+    t_f = 2.0 / w * math.asin(s)
+    v_f = f / (m1 * w) * 2.0 * s * math.sqrt(1.0 - s * s)
+    m = m1 + mu
+    return params, q, t_f, lambda dt: m1 * v_f / m + (q - qp) / m * dt
+
+
+def test_a_plug_a_hair_short_fills_the_pipe_at_its_relative_displacement():
+    # The solver and the reference against the closed form. The reference integrated the
+    # length itself, near L1 held to round-off of L1 (1e-16 m): the fill came 5e-15 s early
+    # and the body's velocity after it was 6e-10 of itself off (2e-9 at this test's samples).
+    # It now integrates the length's change since the piece's start (fuzz 4043:6960).
+    params, q, t_f, v_after = _filling_by_a_hair()
+    dt = 1e-6
+    model = build_model(Params(**params), GROW)
+    model.advance_to(q, t_f + dt)
+    out = model.outputs()
+    assert out.L2_now == 1.0 and out.v_plug == out.v_pipe
+    assert out.v_pipe == pytest.approx(v_after(dt), rel=1e-12)
+    ref = simulate_growth(params, [(1.0, q)], np.array([0.5 * t_f, t_f + dt]))
+    fills = [t for t, text in ref["events"] if "plug fills the pipe" in text]
+    assert fills[0] == pytest.approx(t_f, rel=1e-12)
+    assert ref["v_pipe"][-1] == pytest.approx(v_after(dt), rel=1e-12)
