@@ -140,28 +140,34 @@ def pytest_collection_modifyitems(config, items):
 # One build and compiled kernels for all workers -------------------------------------------------
 def pytest_sessionstart(session):
     """On several workers (``-n``): build the FMUs once for all of them, and compile the kernels
-    of the core and of the FMU's copy of it into the on-disk cache (``warm_kernels.py``, the two
-    at once) before the workers start, so that no two processes compile the same kernel. Only
+    of the core (from the start, while the FMUs build) and of the FMU's copy of it into the
+    on-disk cache (``warm_kernels.py``, one process each) before the workers start, so that no
+    two processes compile the same kernel. Only
     a speed-up: if it fails, each worker builds and compiles as it would alone."""
     config = session.config
     if (hasattr(config, "workerinput") or not getattr(config.option, "numprocesses", None)
             or config.option.collectonly):
         return
-    folder = Path(tempfile.mkdtemp(prefix="pipeplug-tests-"))
-    config.add_cleanup(lambda: shutil.rmtree(folder, ignore_errors=True))
+    script = str(Path(__file__).with_name("warm_kernels.py"))
+
+    def warm(*copy):
+        return subprocess.Popen([sys.executable, script, *copy], stdout=subprocess.DEVNULL,
+                                stderr=subprocess.DEVNULL)
+
+    warming = [warm("pipeplug")]          # the core's kernels compile while the FMUs build
     try:
+        folder = Path(tempfile.mkdtemp(prefix="pipeplug-tests-"))
+        config.add_cleanup(lambda: shutil.rmtree(folder, ignore_errors=True))
         (folder / "build").mkdir()
         fmu = _build(folder / "build" / "PipePlug.fmu")
         unpacked = folder / "unpacked"
         with zipfile.ZipFile(fmu) as zf:
             zf.extractall(unpacked)
+        os.environ[SHARED_BUILD] = str(fmu)        # the workers inherit it
+        warming += [warm(f"{core.parent.name}.pipeplug", str(core.parent.parent))
+                    for core in (unpacked / "resources").glob("*/pipeplug")]
     except (OSError, subprocess.CalledProcessError, zipfile.BadZipFile):
-        return
-    os.environ[SHARED_BUILD] = str(fmu)            # the workers inherit it
-    script = str(Path(__file__).with_name("warm_kernels.py"))
-    copies = [["pipeplug"]] + [[f"{core.parent.name}.pipeplug", str(core.parent.parent)]
-                               for core in (unpacked / "resources").glob("*/pipeplug")]
-    warming = [subprocess.Popen([sys.executable, script, *copy], stdout=subprocess.DEVNULL,
-                                stderr=subprocess.DEVNULL) for copy in copies]
-    for process in warming:
-        process.wait()
+        pass
+    finally:
+        for process in warming:
+            process.wait()

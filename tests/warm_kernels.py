@@ -21,6 +21,7 @@ def run_every_kind(core) -> None:
         model.sample(2e4, [1e-3, 2e-3])
         model.advance_to(0.0, 3e-3)
         model.outputs()
+        model.set_state(model.get_state())  # the rigid solvers' piece start: a kernel of its own
 
     for growth in (False, True):
         steps({"tau1": 2e4}, {"contact_growth": growth})
