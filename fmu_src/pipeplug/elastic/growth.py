@@ -67,6 +67,7 @@ from .cells import (
     soil_weight,
     sums,
 )
+from .cleanout import cut_rear
 from .face import book_step_friction, front_cell
 from .grid import _section, build_grid
 from .kernels import (
@@ -293,23 +294,48 @@ class GrowthModel(ElasticModel):
     # the input ------------------------------------------------------------------------------
     def clean_out(self) -> None:
         """Cut the plug to ``L2_after_cleanout`` rounded down to whole cells, now (module
-        docstring); nothing when it is no longer."""
-        acc, dx = self.acc, self.grid.coef[DX]
-        kept = self._cut * dx
+        docstring); nothing when it is no longer. Books ``W_removed``, the scheme's energy
+        before less after, never negative (:mod:`pipeplug.elastic.cleanout`).
+
+        Raises
+        ------
+        RuntimeError
+            Should the cut give energy to the kept plug beyond round-off (a defect).
+        """
+        acc, c = self.acc, self.grid.coef
+        kept = self._cut * c[DX]
         if not acc[LENGTH] > kept:
             return
         before = sum(self._plug_energies())
+        scale = self._energy_scale()
         d, j0 = self._plug()
-        if d:
-            keep = min(self._cut, d)
-            cut = self.grid.n1 - keep
+        keep = min(self._cut, d)
+        # the fraction leaves from the front cell at its velocity (the front cell is a full
+        # one again), whole cells from the rear
+        acc[LENGTH], acc[CELLS] = kept, keep
+        cut = self.grid.n1 - keep
+        if 0 < keep < d:
+            cut_rear(self.v2[j0:], self.N2[j0:], np.full(d, c[M2]), c[K2], self.clock.h, keep)
+        elif d:
             self.v2[j0:cut] = 0.0
-            self.u2[j0:cut] = 0.0
-            self.N2[j0:cut + 1] = 0.0          # the cut face carries no force
-            acc[CELLS] = keep
-        acc[LENGTH] = kept
-        accumulate(acc, W_REMOVED, W_REMOVED_ERROR, before - sum(self._plug_energies()))
+            self.N2[j0:cut + 1] = 0.0
+        self.u2[j0:cut] = 0.0
+        removed = before - sum(self._plug_energies())
+        if removed < -1e-12 * scale:
+            raise RuntimeError(f"a clean-out gave {-removed!r} J to the kept plug")
+        accumulate(acc, W_REMOVED, W_REMOVED_ERROR, max(removed, 0.0))
         self._rest = None
+
+    def _energy_scale(self) -> float:
+        """The size of the terms of the plug's energy [J] (the cells' kinetic energies and the
+        faces' strain energies, no differences): the scale of its round-off."""
+        d, j0 = self._plug()
+        if not d:
+            return 0.0
+        c = self.grid.coef
+        v, N = self.v2[j0:], self.N2[j0:]
+        extra = front_share(self.acc[LENGTH], d, c[DX]) - 1.0
+        return float(0.5 * c[M2] * (v @ v + extra * v[-1] * v[-1]) + N @ N / (2.0 * c[K2]))
 
 
 def _growth_profiles(model: GrowthModel) -> tuple:
