@@ -39,9 +39,10 @@ decreases, and the ledger ``W_input (+ W_ram) = E_kinetic + E_strain + W_frictio
 Clean-out (:meth:`GrowthModel.clean_out`): the plug is cut to ``L2_after_cleanout`` rounded
 down to whole cells (a length within 1e-9 of a cell's multiple counts as whole): the fraction
 leaves from the front cell (at its velocity), whole cells from the rear (the pipe's head side,
-where the spoil is taken out), and the cut face carries no force. What the scheme's energy
-loses, the removed cells' kinetic energy and the strain energy at the cut, is booked as
-``W_removed``. A plug no longer than that is left as it is.
+where the spoil is taken out), and the cut face becomes the kept plug's free end. The kept
+cells keep their scheme momentum through the cut (:mod:`pipeplug.elastic.cleanout` says why),
+so what the scheme's energy loses, booked as ``W_removed``, is never negative: at least the
+removed soil's kinetic and strain energy. A plug no longer than that is left as it is.
 
 The kernel (:func:`run_growth`) steps every cell at every step, with or without end
 resistance, soil friction, contact growth and a ram (loops only, like
