@@ -335,7 +335,8 @@ class GrowthModel(ElasticModel):
             return 0.0
         c = self.grid.coef
         v, N = self.v2[j0:], self.N2[j0:]
-        extra = front_share(self.acc[LENGTH], d, c[DX]) - 1.0
+        # a first cell still filling holds a share below 1: its term is a difference too
+        extra = abs(front_share(self.acc[LENGTH], d, c[DX]) - 1.0)
         return float(0.5 * c[M2] * (v @ v + extra * v[-1] * v[-1]) + N @ N / (2.0 * c[K2]))
 
 

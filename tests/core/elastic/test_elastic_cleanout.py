@@ -96,3 +96,21 @@ def test_a_cleanout_never_gives_energy_to_the_plug_it_keeps(courant):
             assert mass * model.v2[c:].sum() - momentum == pytest.approx(
                 -0.25 * k * h * h * jump, abs=1e-12 * mass * np.abs(model.v2).max())
             assert not model.v2[:c].any() and not model.N2[:c + 1].any()
+
+
+@pytest.mark.parametrize("length", [5e-35, 0.3 * PLUG["dx"]])
+def test_a_first_cell_still_filling_leaves_with_its_kinetic_energy(length):
+    # Found by the fuzz (seed 2041, case 125): a plug 5e-35 m long taken out; its energy,
+    # a full cell's less (1 - share) of it, came out -5.7e-42 J and was booked as W_removed.
+    full_cell = PLUG["rho2"] * math.pi * PLUG["R1"] ** 2 * PLUG["dx"]
+    for speed in np.linspace(-3.0, 3.0, 25):
+        model = _model(dict(PLUG, L2=0.0, L2_after_cleanout=0.0))
+        model.v2[-1] = speed
+        model.acc[LENGTH], model.acc[CELLS] = length, 1
+        model._rest = None
+        model.clean_out()
+        after = model.outputs()
+        kinetic = 0.5 * full_cell * speed ** 2
+        assert after.W_removed >= 0.0 and after.L2_now == 0.0 and not model.v2.any()
+        assert after.W_removed == pytest.approx(kinetic * length / PLUG["dx"], rel=1e-12,
+                                                abs=1e-15 * kinetic)
