@@ -98,7 +98,8 @@ OUTPUTS: tuple[Output, ...] = (
                                        "fills the pipe) (>= 0, never decreases; 0 without "
                                        "plug_growth)"),
     Output("W_removed", "J", "Real", "energy of the soil the clean-outs removed since t = 0 "
-                                     "(kinetic; model III also the strain at the cut)"),
+                                     "(kinetic; model III: the scheme's energy it took, its kinetic and "
+                                     "strain energy at least; >= 0, never decreases)"),
 )
 
 #: The outputs every model without a growing plug gives as constants: L2_now (the parameter L2),

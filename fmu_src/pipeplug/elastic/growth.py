@@ -39,9 +39,10 @@ decreases, and the ledger ``W_input (+ W_ram) = E_kinetic + E_strain + W_frictio
 Clean-out (:meth:`GrowthModel.clean_out`): the plug is cut to ``L2_after_cleanout`` rounded
 down to whole cells (a length within 1e-9 of a cell's multiple counts as whole): the fraction
 leaves from the front cell (at its velocity), whole cells from the rear (the pipe's head side,
-where the spoil is taken out), and the cut face carries no force. What the scheme's energy
-loses, the removed cells' kinetic energy and the strain energy at the cut, is booked as
-``W_removed``. A plug no longer than that is left as it is.
+where the spoil is taken out), and the cut face becomes the kept plug's free end. The kept
+cells keep their scheme momentum through the cut (:mod:`pipeplug.elastic.cleanout` says why),
+so what the scheme's energy loses, booked as ``W_removed``, is never negative: at least the
+removed soil's kinetic and strain energy. A plug no longer than that is left as it is.
 
 The kernel (:func:`run_growth`) steps every cell at every step, with or without end
 resistance, soil friction, contact growth and a ram (loops only, like
@@ -67,6 +68,7 @@ from .cells import (
     soil_weight,
     sums,
 )
+from .cleanout import cut_rear
 from .face import book_step_friction, front_cell
 from .grid import _section, build_grid
 from .kernels import (
@@ -293,23 +295,49 @@ class GrowthModel(ElasticModel):
     # the input ------------------------------------------------------------------------------
     def clean_out(self) -> None:
         """Cut the plug to ``L2_after_cleanout`` rounded down to whole cells, now (module
-        docstring); nothing when it is no longer."""
-        acc, dx = self.acc, self.grid.coef[DX]
-        kept = self._cut * dx
+        docstring); nothing when it is no longer. Books ``W_removed``, the scheme's energy
+        before less after, never negative (:mod:`pipeplug.elastic.cleanout`).
+
+        Raises
+        ------
+        RuntimeError
+            Should the cut give energy to the kept plug beyond round-off (a defect).
+        """
+        acc, c = self.acc, self.grid.coef
+        kept = self._cut * c[DX]
         if not acc[LENGTH] > kept:
             return
         before = sum(self._plug_energies())
+        scale = self._energy_scale()
         d, j0 = self._plug()
-        if d:
-            keep = min(self._cut, d)
-            cut = self.grid.n1 - keep
+        keep = min(self._cut, d)
+        # the fraction leaves from the front cell at its velocity (the front cell is a full
+        # one again), whole cells from the rear
+        acc[LENGTH], acc[CELLS] = kept, keep
+        cut = self.grid.n1 - keep
+        if 0 < keep < d:
+            cut_rear(self.v2[j0:], self.N2[j0:], np.full(d, c[M2]), c[K2], self.clock.h, keep)
+        elif d:
             self.v2[j0:cut] = 0.0
-            self.u2[j0:cut] = 0.0
-            self.N2[j0:cut + 1] = 0.0          # the cut face carries no force
-            acc[CELLS] = keep
-        acc[LENGTH] = kept
-        accumulate(acc, W_REMOVED, W_REMOVED_ERROR, before - sum(self._plug_energies()))
+            self.N2[j0:cut + 1] = 0.0
+        self.u2[j0:cut] = 0.0
+        removed = before - sum(self._plug_energies())
+        if removed < -1e-12 * scale:
+            raise RuntimeError(f"a clean-out gave {-removed!r} J to the kept plug")
+        accumulate(acc, W_REMOVED, W_REMOVED_ERROR, max(removed, 0.0))
         self._rest = None
+
+    def _energy_scale(self) -> float:
+        """The size of the terms of the plug's energy [J] (the cells' kinetic energies and the
+        faces' strain energies, no differences): the scale of its round-off."""
+        d, j0 = self._plug()
+        if not d:
+            return 0.0
+        c = self.grid.coef
+        v, N = self.v2[j0:], self.N2[j0:]
+        # a first cell still filling holds a share below 1: its term is a difference too
+        extra = abs(front_share(self.acc[LENGTH], d, c[DX]) - 1.0)
+        return float(0.5 * c[M2] * (v @ v + extra * v[-1] * v[-1]) + N @ N / (2.0 * c[K2]))
 
 
 def _growth_profiles(model: GrowthModel) -> tuple:
