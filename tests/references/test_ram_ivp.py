@@ -433,12 +433,13 @@ def test_a_pipe_set_sliding_at_t_0_by_the_cushion_goes_on():
 @pytest.mark.parametrize("ulps", [-1, 0, 1, 4])
 def test_a_pipe_held_at_its_limit_breaks_away_as_the_cushion_loads(ulps):
     # fuzz --model ram, seed 4051, case 6110: a held pipe under Q = F1 to the last digit (here
-    # F1 and a few ulps either side; the case's Q is F1 + 1 ulp) struck through a cushion. The cushion's force grows at
-    # k v0 from 0, so the force on the pipe passes its hold within (F1 - Q) / (k v0) < 1e-15 s
-    # whichever side of F1 the load's round-off lies: the pipe slides. Stuck at equality holds
+    # F1 and a few ulps either side; the case's Q is F1 + 1 ulp) struck through a cushion.
+    # The cushion's force grows at k v0 from 0, so the force on the pipe passes its hold
+    # within (F1 - Q) / (k v0) < 1e-15 s whichever side of F1 the load's round-off lies: the
+    # pipe slides. Stuck at equality holds
     # for an instant only; the reference held the pipe for good when Q lay above F1 within its
     # mode solver's slack (an event at F1 already passed at the piece's start). Closed form of
-    # two bodies on the loading line (Q - F1 ~ 1e-12 N, its share < 1e-15 of what is measured):
+    # two bodies on the loading line (Q - F1 < 3e-11 N, its share < 1e-12 of what is measured):
     # D = v0 sin(w t) / w, w^2 = k (1/m + 1/M1), U1 = m v0 (t - sin(w t) / w) / (m + M1).
     params = dict(L1=0.4638586909854424, L2=0.0, R1=0.035, h1=0.003, rho1=7800.0,
                   tau1=538040.8022886314, tau2=0.0)
