@@ -342,6 +342,13 @@ def _piece(s, r, y, st, t, tb):
             if hidden:
                 t_end = _root(lambda tt: sol.sol(tt)[4] - touch, t, hidden[0])
                 y_end, name = sol.sol(t_end), "ram reaches the head"
+    if (c == FREE and st["struck"] and not still and name != "ram reaches the head"
+            and y[4] < touch <= y_end[4]):
+        # a terminal event (the pipe stopping) cut short the check in which the ram rose
+        # through the touch, its closest approach after that end (fuzz 4061:2580): the
+        # compression, a quadratic, crossed upward once between the piece's ends
+        t_end = _root(lambda tt: sol.sol(tt)[4] - touch, t, t_end)
+        y_end, name = sol.sol(t_end), "ram reaches the head"
     return t_end, y_end, name, sol
 
 

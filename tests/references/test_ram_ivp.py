@@ -459,3 +459,36 @@ def test_a_pipe_held_at_its_limit_breaks_away_as_the_cushion_loads(ulps):
     for out in (ref, core):
         assert np.abs(out["u_pipe"] - u1).max() <= 1e-9 * u1.max()
         assert np.abs(out["v_pipe"] - v1).max() <= 1e-9 * v1.max()
+
+
+def test_a_ram_meeting_a_returning_pipe_just_before_it_stops_is_a_contact():
+    # fuzz --model ram, seed 4061, case 2580: the ram left behind a pipe thrown forward; the
+    # pipe comes back under a pull, then slows under friction alone (Q = 0) and stops. The ram
+    # meets the head before the stop, its closest approach (the velocities equal) would come
+    # after it: the compression rose through the cushion's touch and fell back within one of
+    # the piece's event checks, the stop ended the piece, and the contact went unseen (the
+    # next decision found the cushion compressed: 2.9e-5 of the velocities' scale). Closed
+    # form, no plug: from rest under Q1 > F1 for T1 (a1 = (Q1 - F1) / M1), the strike at vr,
+    # then Q2 < -F1: forward at a2 = (Q2 - F1) / M1 to a stop, back at a3 = (Q2 + F1) / M1 for
+    # t3; then Q = 0, a4 = F1 / M1: the compression D3 + (vr - V3) tau - a4 tau^2 / 2 reaches
+    # 0 at its first root, before the stop at -V3 / a4.
+    F1, Q1, Q2, T1, vr, t3 = 1e4, 2e4, -3e4, 5e-3, 0.5, 1.2e-3
+    params = dict(FREE, tau1=F1 / System(dict(FREE, tau1=1.0), False).c1_full)
+    a1, a2, a3, a4 = (Q1 - F1) / M1, (Q2 - F1) / M1, (Q2 + F1) / M1, F1 / M1
+    V1 = a1 * T1
+    t2 = -V1 / a2
+    V3, T3 = a3 * t3, T1 + t2 + t3
+    D3 = vr * (t2 + t3) - (0.5 * V1 * t2 + 0.5 * a3 * t3 * t3)
+    b = vr - V3
+    contact = T3 + 2.0 * D3 / (-b - math.sqrt(b * b + 2.0 * a4 * D3))   # the smaller root
+    assert T3 < contact < T3 - V3 / a4
+    ram = dict(mass=10.0, k=1e5, e=0.8)
+    history = [(0.0, "q", Q1), (T1, "q", Q2), (T1, "strike", vr), (T3, "q", 0.0)]
+    times = [T3 + 0.002, T3 + 0.01, T3 + 1.0]
+    ref = simulate_ram(params, ram, history, np.array(times))
+    assert _event_times(ref, "ram reaches the head") == [pytest.approx(contact, rel=1e-12)]
+    core = _core(params, ram, history, times)
+    for family in FAMILIES:
+        scale = max(np.abs(ref[n]).max() for n in family) or 1.0
+        for name in family:
+            assert np.abs(core[name] - ref[name]).max() <= 1e-9 * scale, name
