@@ -53,7 +53,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from .face_ivp import FaceSystem, face_modes
-from .rigid_ivp import coulomb_modes
+from .rigid_ivp import FORCE_SLACK, coulomb_modes
 
 __all__ = ["simulate_ram", "OUTPUTS", "PLASTIC"]
 
@@ -256,9 +256,10 @@ def _piece(s, r, y, st, t, tb):
     evs = []
 
     def add(fun, direction, name, band=0.0):
-        # At the piece's start a level met within ``band`` (round-off of its terms) counts as
-        # met: a plug carried at its limit when a strike starts (the forces balanced to the
-        # last digit) leaves at once as the cushion loads, whichever side of 0 it starts on.
+        # At the piece's start a level met within ``band`` (round-off of its terms, or the
+        # slack with which the modes were decided) counts as met: a plug carried at its limit
+        # when a strike starts (the forces balanced to the last digit) leaves at once as the
+        # cushion loads, whichever side of 0 it starts on.
         def event(tt, z):           # z: a state (6,) or states (6, n) at times tt
             g = fun(z)
             return np.where((np.abs(g) <= band) & (tt == t), -direction * 1e-300, g)
@@ -276,8 +277,16 @@ def _piece(s, r, y, st, t, tb):
         # [-c2, c2], e3 = f2 in [-Qp, 0]; with the plug sliding, f2 = -rr c2
         f2 = -rr * s.c2
         ahead = s.c1_full + s.qf + (min(s.qp, s.c2) if rr == 0 and s.plug else 0.0)
-        add(lambda z: ahead - (q + r.force(c, z[4], dmax) + f2), -1, "pipe breaks away +")
-        add(lambda z: s.c1_full + (q + r.force(c, z[4], dmax) + f2), -1, "pipe breaks away -")
+        # The mode solvers hold a force within their slack of its limit (stuck wins at
+        # equality); a force that starts there and goes on past the limit cannot be held for
+        # any time: it breaks away at once, whichever side of the limit round-off put it
+        # (fuzz 4051:6110: Q = F1 + 1 ulp, held for good as the cushion loaded)
+        slack = FORCE_SLACK * (abs(q + r.force(c, y[4], dmax)) + s.c1_full + s.qf + s.c2
+                               + s.qp)
+        add(lambda z: ahead - (q + r.force(c, z[4], dmax) + f2), -1, "pipe breaks away +",
+            slack)
+        add(lambda z: s.c1_full + (q + r.force(c, z[4], dmax) + f2), -1, "pipe breaks away -",
+            slack)
     if p != 0 and rr == 0 and s.plug and c in (LOAD, UNLOAD):
         e3 = _ends(s, p, 0, 0)[1]
 
@@ -333,6 +342,13 @@ def _piece(s, r, y, st, t, tb):
             if hidden:
                 t_end = _root(lambda tt: sol.sol(tt)[4] - touch, t, hidden[0])
                 y_end, name = sol.sol(t_end), "ram reaches the head"
+    if (c == FREE and st["struck"] and not still and name != "ram reaches the head"
+            and y[4] < touch <= y_end[4]):
+        # a terminal event (the pipe stopping) cut short the check in which the ram rose
+        # through the touch, its closest approach after that end (fuzz 4061:2580): the
+        # compression, a quadratic, crossed upward once between the piece's ends
+        t_end = _root(lambda tt: sol.sol(tt)[4] - touch, t, t_end)
+        y_end, name = sol.sol(t_end), "ram reaches the head"
     return t_end, y_end, name, sol
 
 

@@ -428,3 +428,67 @@ def test_a_pipe_set_sliding_at_t_0_by_the_cushion_goes_on():
         scale = max(np.abs(ref[n]).max() for n in family) or 1.0
         for name in family:
             assert np.abs(core[name] - ref[name]).max() <= 1e-9 * scale, name
+
+
+@pytest.mark.parametrize("ulps", [-1, 0, 1, 4])
+def test_a_pipe_held_at_its_limit_breaks_away_as_the_cushion_loads(ulps):
+    # fuzz --model ram, seed 4051, case 6110: a held pipe under Q = F1 to the last digit (here
+    # F1 and a few ulps either side; the case's Q is F1 + 1 ulp) struck through a cushion.
+    # The cushion's force grows at k v0 from 0, so the force on the pipe passes its hold
+    # within (F1 - Q) / (k v0) < 1e-15 s whichever side of F1 the load's round-off lies: the
+    # pipe slides. Stuck at equality holds
+    # for an instant only; the reference held the pipe for good when Q lay above F1 within its
+    # mode solver's slack (an event at F1 already passed at the piece's start). Closed form of
+    # two bodies on the loading line (Q - F1 < 3e-11 N, its share < 1e-12 of what is measured):
+    # D = v0 sin(w t) / w, w^2 = k (1/m + 1/M1), U1 = m v0 (t - sin(w t) / w) / (m + M1).
+    params = dict(L1=0.4638586909854424, L2=0.0, R1=0.035, h1=0.003, rho1=7800.0,
+                  tau1=538040.8022886314, tau2=0.0)
+    ram = dict(mass=13.083045753583747, k=183165.05887261487, e=0.36580391940100765)
+    v0, m = 0.5188512599180136, ram["mass"]
+    M = 7800.0 * math.pi * (0.038 ** 2 - 0.035 ** 2) * params["L1"]
+    q = 2.0 * math.pi * (0.035 + 0.003) * params["L1"] * params["tau1"]   # F1 in floats
+    for _ in range(abs(ulps)):
+        q = math.nextafter(q, math.copysign(math.inf, ulps))
+    w = math.sqrt(ram["k"] * (1.0 / m + 1.0 / M))
+    times = np.array([1e-4, 1e-3, 0.9 * math.pi / (2.0 * w)])     # before the largest compression
+    u1 = m * v0 / (m + M) * (times - np.sin(w * times) / w)
+    v1 = m * v0 / (m + M) * (1.0 - np.cos(w * times))
+    history = [(0.0, "q", q), (0.0, "strike", v0)]
+    ref = simulate_ram(params, ram, history, times)
+    core = _core(params, ram, history, list(times))
+    for out in (ref, core):
+        assert np.abs(out["u_pipe"] - u1).max() <= 1e-9 * u1.max()
+        assert np.abs(out["v_pipe"] - v1).max() <= 1e-9 * v1.max()
+
+
+def test_a_ram_meeting_a_returning_pipe_just_before_it_stops_is_a_contact():
+    # fuzz --model ram, seed 4061, case 2580: the ram left behind a pipe thrown forward; the
+    # pipe comes back under a pull, then slows under friction alone (Q = 0) and stops. The ram
+    # meets the head before the stop, its closest approach (the velocities equal) would come
+    # after it: the compression rose through the cushion's touch and fell back within one of
+    # the piece's event checks, the stop ended the piece, and the contact went unseen (the
+    # next decision found the cushion compressed: 2.9e-5 of the velocities' scale). Closed
+    # form, no plug: from rest under Q1 > F1 for T1 (a1 = (Q1 - F1) / M1), the strike at vr,
+    # then Q2 < -F1: forward at a2 = (Q2 - F1) / M1 to a stop, back at a3 = (Q2 + F1) / M1 for
+    # t3; then Q = 0, a4 = F1 / M1: the compression D3 + (vr - V3) tau - a4 tau^2 / 2 reaches
+    # 0 at its first root, before the stop at -V3 / a4.
+    F1, Q1, Q2, T1, vr, t3 = 1e4, 2e4, -3e4, 5e-3, 0.5, 1.2e-3
+    params = dict(FREE, tau1=F1 / System(dict(FREE, tau1=1.0), False).c1_full)
+    a1, a2, a3, a4 = (Q1 - F1) / M1, (Q2 - F1) / M1, (Q2 + F1) / M1, F1 / M1
+    V1 = a1 * T1
+    t2 = -V1 / a2
+    V3, T3 = a3 * t3, T1 + t2 + t3
+    D3 = vr * (t2 + t3) - (0.5 * V1 * t2 + 0.5 * a3 * t3 * t3)
+    b = vr - V3
+    contact = T3 + 2.0 * D3 / (-b - math.sqrt(b * b + 2.0 * a4 * D3))   # the smaller root
+    assert T3 < contact < T3 - V3 / a4
+    ram = dict(mass=10.0, k=1e5, e=0.8)
+    history = [(0.0, "q", Q1), (T1, "q", Q2), (T1, "strike", vr), (T3, "q", 0.0)]
+    times = [T3 + 0.002, T3 + 0.01, T3 + 1.0]
+    ref = simulate_ram(params, ram, history, np.array(times))
+    assert _event_times(ref, "ram reaches the head") == [pytest.approx(contact, rel=1e-12)]
+    core = _core(params, ram, history, times)
+    for family in FAMILIES:
+        scale = max(np.abs(ref[n]).max() for n in family) or 1.0
+        for name in family:
+            assert np.abs(core[name] - ref[name]).max() <= 1e-9 * scale, name

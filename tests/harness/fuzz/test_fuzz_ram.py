@@ -105,3 +105,43 @@ def test_a_plug_sliding_at_its_limit_books_friction_work_that_never_decreases():
         result = run_ram_case(case, Setup(("python",)))
         assert result.values[("friction work", "python")] == 0.0, (seed, index)
         assert result.failed == [], (seed, index, result.failed)
+
+
+def test_a_displacement_the_reference_holds_at_zero_allows_round_off_drift_only(monkeypatch):
+    """Where the reference holds pipe and plug at exactly 0 the displacements have no scale
+    (fuzz 4051:6110 reported inf). The core may drift no farther than 16 ulps of the largest
+    static force move the pipe over the run (derived here from the case's numbers: F1 = 2 pi
+    (R1 + h1) L1 tau1 or the largest |Q|, a = 16 eps F / M1, a T^2 / 2); 1.1e-9 m, the slide
+    that case's reference had missed, fails."""
+    import math
+
+    import numpy as np
+
+    from pipeplug import OUTPUT_NAMES
+    from pipeplug_harness.fuzz import ram_run
+    from pipeplug_harness.fuzz.runners import COLUMN
+    from pipeplug_references import ram_ivp
+
+    case = generate_ram(4051, 6110)
+    p = case.params
+    M1 = p["rho1"] * math.pi * ((p["R1"] + p["h1"]) ** 2 - p["R1"] ** 2) * p["L1"]
+    F = max(2.0 * math.pi * (p["R1"] + p["h1"]) * p["L1"] * p["tau1"],
+            *(abs(q) for _, q in case.segments))
+    drift = 0.5 * 16.0 * np.finfo(float).eps * F / M1 * case.stop ** 2
+    n = len(case.grids["fine"]) - 1
+
+    def held(params, ram, history, times):
+        out = {name: np.zeros(n) for name in ram_ivp.OUTPUTS}
+        out["v_ram"] = out["W_ram"] = np.ones(n)
+        return out
+
+    monkeypatch.setattr(ram_ivp, "simulate_ram", held)
+    values = []
+    for creep in (0.5 * drift, 2.0 * drift, 1.1e-9):
+        rows = np.zeros((n, len(OUTPUT_NAMES)))
+        rows[:, COLUMN["v_ram"]] = rows[:, COLUMN["W_ram"]] = 1.0
+        rows[-1, COLUMN["u_pipe"]] = creep
+        result = CaseResult(case.seed, case.index, case.model, case.checks)
+        ram_run._reference(case, [rows] * len(case.grids), "python", result)
+        values.append(result.values[("reference", "python")])
+    assert values[0] <= 1e-9 < values[1] < values[2] < math.inf
