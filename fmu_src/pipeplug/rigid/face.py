@@ -25,7 +25,7 @@ The end forces of a piece, ``FACE1`` on the pipe and ``FACE3`` on the plug, are 
 from __future__ import annotations
 
 from ..contact.coulomb import SLACK
-from ..contact.face import face_contacts, one_sided, sliding_force
+from ..contact.face import face_contacts, one_sided, sliding_force, sliding_pair
 from ..contact.outer import face_on, limit, segment
 from ..jit import jitable
 from .motion import motion, travel
@@ -100,9 +100,13 @@ def face_modes(par, m1, q, u1, v1, v2, kick, kick1):
     w1 = (q + f1 + f2) / m1
     if coupled:
         w2 = (f3 - f2) / m2
-        x1, x2, g1, g2, g3, p1, p2, p3 = face_contacts(
-            m1, m2, w1, w2, 0.0 if s1 != 0 else c1p, 0.0 if s1 != 0 else c1,
-            0.0 if s2 != 0 else f2_limit, 0.0 if s3 != 0 else qp, 0.0)
+        c1s, c1ms = (0.0, 0.0) if s1 != 0 else (c1p, c1)
+        c3s = 0.0 if s3 != 0 else qp
+        if s2 != 0:                   # the bodies apart, each with its own round-off
+            x1, x2, g1, g2, g3, p1, p2, p3 = sliding_pair(m1, m2, w1, w2, c1s, c1ms, c3s)
+        else:
+            x1, x2, g1, g2, g3, p1, p2, p3 = face_contacts(m1, m2, w1, w2, c1s, c1ms,
+                                                           f2_limit, c3s, 0.0)
     else:
         cp, cm = (0.0, 0.0) if s1 != 0 else (c1p, c1)
         x1, g1 = one_sided(m1, w1, cp, cm, SLACK * (abs(m1 * w1) + cp + cm))

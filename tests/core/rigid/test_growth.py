@@ -302,3 +302,29 @@ def test_a_plug_a_hair_short_fills_the_pipe_at_its_relative_displacement():
     fills = [t for t, text in ref["events"] if "plug fills the pipe" in text]
     assert fills[0] == pytest.approx(t_f, rel=1e-12)
     assert ref["v_pipe"][-1] == pytest.approx(v_after(dt), rel=1e-12)
+
+
+def test_a_tiny_plug_held_by_its_face_stays_held_when_the_load_turns():
+    # fuzz 4071:4781. Model I without shaft friction; a plug of 1e-9 m, 3.8e-14 kg, held by its
+    # face (Qp = 38 N against its friction k L2 = 2.2e-9 N), cored by Q0 = 100 N; then Q turns
+    # to -1e5 N while the pipe still slides forward. By Coulomb's law by hand: the pipe slides
+    # over the plug, whose friction pushes it ahead (k L2 > 0), which its face holds (k L2 <
+    # Qp): the plug stays at rest, the pipe decelerates under Q - k L2 until it stops. (The
+    # joint modes took "the plug carried backward", violated by 3e-9 N, the plug's own forces,
+    # as within round-off of all of them, 1e-8 N; its piece ended at once and started again,
+    # more than 100000 events in one step.)
+    p = Params(**dict(BASE, tau1=0.0, tau2=10.0, rho2=0.01, L1=1.0, L2=1e-9,
+                      q_plug_face=1e4))
+    k = 2.0 * math.pi * p.R1 * p.tau2
+    q0, t1, q = 100.0, 1e-6, -1e5
+    a0 = (q0 - k * p.L2) / p.M1
+    v1, u1 = a0 * t1, 0.5 * a0 * t1 * t1
+    a = (q - k * (p.L2 + u1)) / p.M1
+    dt = 0.5 * v1 / -a                   # half way to the pipe's stop
+    model = build_model(p, GROW)
+    model.advance_to(q0, t1)
+    model.advance_to(q, t1 + dt)
+    out = model.outputs()
+    assert out.v_plug == 0.0 and out.u_plug == 0.0
+    assert out.v_pipe == pytest.approx(v1 + a * dt, rel=1e-12)
+    assert out.L2_now == pytest.approx(p.L2 + u1 + v1 * dt + 0.5 * a * dt * dt, rel=1e-12)
