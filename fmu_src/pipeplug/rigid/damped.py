@@ -22,7 +22,8 @@ is a zero of a constant plus at most two exponentials, located to round-off on m
   loose (``BREAK_*``).
 
 At each event the modes are decided jointly (:func:`pipeplug.contact.face.face_contacts`, the
-sliding contacts' forces, dampers included, taken at the current velocities). Outputs are
+sliding contacts' forces, dampers included, taken at the current velocities; while the plug
+slides in the pipe, each body apart, :func:`pipeplug.contact.face.sliding_pair`). Outputs are
 evaluated from the piece's origin, never accumulated, so they do not depend on the host's
 communication points. Model II is refused with damping (:func:`pipeplug.build_model`): the
 damper of a growing shaft friction, ``J_shaft P1 tau1 U1 U1'``, is not linear.

@@ -8,7 +8,8 @@ friction, as without them. What changes:
 
 * the modes are decided by :func:`~pipeplug.contact.face.face_contacts` (asymmetric window on
   the pipe, a third contact plug/soil with mode ``S3``), not
-  :func:`~pipeplug.contact.coulomb.two_contacts`;
+  :func:`~pipeplug.contact.coulomb.two_contacts`; while the plug slides in the pipe, each body
+  apart with the round-off of its own forces (:func:`~pipeplug.contact.face.sliding_pair`);
 * a sliding pipe advancing in the soil feels ``-Qf`` more (model II: from U = 0 on, a segment
   end), a plug advancing ``-Qp``; a plug may be held by its face while the pipe slides over it
   (``BOTH_SLIDE`` with ``S3 = 0``: coring), and a plug sliding in a sliding pipe comes to rest
