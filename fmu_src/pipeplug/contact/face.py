@@ -29,7 +29,8 @@ from __future__ import annotations
 from ..jit import jitable
 from .coulomb import SLACK
 
-__all__ = ["PATTERNS", "face_contacts", "face_pattern", "one_sided", "sliding_force"]
+__all__ = ["PATTERNS", "face_contacts", "face_pattern", "one_sided", "sliding_force",
+           "sliding_pair"]
 
 #: sign patterns (s1, s2, s3), most stuck first
 PATTERNS = ((0, 0, 0), (0, 1, -1), (0, -1, 1), (1, 0, 1), (-1, 0, -1), (1, 1, 0), (-1, -1, 0),
@@ -114,6 +115,45 @@ def face_contacts(m1, m2, w1, w2, c1p, c1m, c2, c3p, slack):
                                                  _S1[best], _S2[best], _S3[best])
     return (x1, x2, _clip(f1, c1p, c1m), _clip(f2, c2, c2), _clip(f3, c3p, 0.0), _S1[best],
             _S2[best], _S3[best])
+
+
+@jitable
+def sliding_pair(m1, m2, w1, w2, c1p, c1m, c3p):
+    """:func:`face_contacts` while the pipe/plug contact slides (its force known, in ``w1``
+    and ``w2``): two one-body problems, each body against its own forces.
+
+    With that contact's limit 0 the bodies do not act on each other, so in exact arithmetic
+    the joint problem is the pipe on its window and the plug on its face's. A round-off
+    allowance taken from all the forces would let the pipe's forces hide a wrong pattern of a
+    plug whose own forces are below their round-off (fuzz growth 4071:4781: a plug of 3e-14 kg
+    held by its face against 6e-9 N of friction, a pipe under 6e4 N; the pattern "plug carried
+    backward" was within 6e-9 N, the plug's piece ended at once and started again without
+    end). The plug's allowance is the round-off of the forces on it, the pipe's that of the
+    joint problem (its decision unchanged: the plug's friction on it is in ``w1``).
+
+    Parameters
+    ----------
+    m1, m2, w1, w2, c1p, c1m, c3p : float
+        As :func:`face_contacts` (``c2 = 0``).
+
+    Returns
+    -------
+    x1, x2, f1, f2, f3, s1, s2, s3
+        As :func:`face_contacts` (``f2 = 0``: the sliding force is in the free rates).
+    """
+    joint = SLACK * (abs(m1 * w1) + abs(m2 * w2) + c1p + c1m + c3p)
+    x1, f1 = one_sided(m1, w1, c1p, c1m, joint)
+    x2, f3 = one_sided(m2, w2, c3p, 0.0, SLACK * (abs(m2 * w2) + c3p))
+    return x1, x2, f1, 0.0, f3, _sign(x1), _sign(x1 - x2), _sign(x2)
+
+
+@jitable
+def _sign(x):
+    if x > 0.0:
+        return 1
+    if x < 0.0:
+        return -1
+    return 0
 
 
 @jitable

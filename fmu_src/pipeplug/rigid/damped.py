@@ -22,7 +22,8 @@ is a zero of a constant plus at most two exponentials, located to round-off on m
   loose (``BREAK_*``).
 
 At each event the modes are decided jointly (:func:`pipeplug.contact.face.face_contacts`, the
-sliding contacts' forces, dampers included, taken at the current velocities). Outputs are
+sliding contacts' forces, dampers included, taken at the current velocities; while the plug
+slides in the pipe, each body apart, :func:`pipeplug.contact.face.sliding_pair`). Outputs are
 evaluated from the piece's origin, never accumulated, so they do not depend on the host's
 communication points. Model II is refused with damping (:func:`pipeplug.build_model`): the
 damper of a growing shaft friction, ``J_shaft P1 tau1 U1 U1'``, is not linear.
@@ -40,7 +41,7 @@ import math
 import numpy as np
 
 from ..contact.coulomb import SLACK
-from ..contact.face import face_contacts, one_sided
+from ..contact.face import face_contacts, one_sided, sliding_pair
 from ..interface import ModelBase, Outputs
 from .linear import LinearPiece
 from .stress import axial_extremes
@@ -112,9 +113,13 @@ class RigidDamped(ModelBase):
         w1 = (q + f1 + f2) / self.M1
         if self.coupled:
             w2 = (f3 - f2) / self.M2
-            _, _, g1, g2, g3, p1, p2, p3 = face_contacts(
-                self.M1, self.M2, w1, w2, 0.0 if e1 else c1p, 0.0 if e1 else c1m,
-                0.0 if e2 else self.F2, 0.0 if e3 else self.Qp, 0.0)
+            c1s, c1ms, c3s = 0.0 if e1 else c1p, 0.0 if e1 else c1m, 0.0 if e3 else self.Qp
+            if e2 != 0:                   # the bodies apart, each with its own round-off
+                _, _, g1, g2, g3, p1, p2, p3 = sliding_pair(self.M1, self.M2, w1, w2, c1s,
+                                                            c1ms, c3s)
+            else:
+                _, _, g1, g2, g3, p1, p2, p3 = face_contacts(self.M1, self.M2, w1, w2, c1s,
+                                                             c1ms, self.F2, c3s, 0.0)
         else:
             cp, cm = (0.0, 0.0) if e1 else (c1p, c1m)
             x1, g1 = one_sided(self.M1, w1, cp, cm, SLACK * (abs(self.M1 * w1) + cp + cm))

@@ -8,7 +8,8 @@ friction, as without them. What changes:
 
 * the modes are decided by :func:`~pipeplug.contact.face.face_contacts` (asymmetric window on
   the pipe, a third contact plug/soil with mode ``S3``), not
-  :func:`~pipeplug.contact.coulomb.two_contacts`;
+  :func:`~pipeplug.contact.coulomb.two_contacts`; while the plug slides in the pipe, each body
+  apart with the round-off of its own forces (:func:`~pipeplug.contact.face.sliding_pair`);
 * a sliding pipe advancing in the soil feels ``-Qf`` more (model II: from U = 0 on, a segment
   end), a plug advancing ``-Qp``; a plug may be held by its face while the pipe slides over it
   (``BOTH_SLIDE`` with ``S3 = 0``: coring), and a plug sliding in a sliding pipe comes to rest
@@ -25,7 +26,7 @@ The end forces of a piece, ``FACE1`` on the pipe and ``FACE3`` on the plug, are 
 from __future__ import annotations
 
 from ..contact.coulomb import SLACK
-from ..contact.face import face_contacts, one_sided, sliding_force
+from ..contact.face import face_contacts, one_sided, sliding_force, sliding_pair
 from ..contact.outer import face_on, limit, segment
 from ..jit import jitable
 from .motion import motion, travel
@@ -100,9 +101,13 @@ def face_modes(par, m1, q, u1, v1, v2, kick, kick1):
     w1 = (q + f1 + f2) / m1
     if coupled:
         w2 = (f3 - f2) / m2
-        x1, x2, g1, g2, g3, p1, p2, p3 = face_contacts(
-            m1, m2, w1, w2, 0.0 if s1 != 0 else c1p, 0.0 if s1 != 0 else c1,
-            0.0 if s2 != 0 else f2_limit, 0.0 if s3 != 0 else qp, 0.0)
+        c1s, c1ms = (0.0, 0.0) if s1 != 0 else (c1p, c1)
+        c3s = 0.0 if s3 != 0 else qp
+        if s2 != 0:                   # the bodies apart, each with its own round-off
+            x1, x2, g1, g2, g3, p1, p2, p3 = sliding_pair(m1, m2, w1, w2, c1s, c1ms, c3s)
+        else:
+            x1, x2, g1, g2, g3, p1, p2, p3 = face_contacts(m1, m2, w1, w2, c1s, c1ms,
+                                                           f2_limit, c3s, 0.0)
     else:
         cp, cm = (0.0, 0.0) if s1 != 0 else (c1p, c1)
         x1, g1 = one_sided(m1, w1, cp, cm, SLACK * (abs(m1 * w1) + cp + cm))

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from pipeplug.contact.coulomb import two_contacts
-from pipeplug.contact.face import PATTERNS, face_contacts, one_sided
+from pipeplug.contact.face import PATTERNS, face_contacts, one_sided, sliding_pair
 
 TOL = 1e-9
 
@@ -78,3 +78,15 @@ def test_a_plug_held_by_its_face_while_the_pipe_slides_over_it():
                                      (-3.0, -2.0, 1.0)])    # retreats, resisted by cm only
 def test_one_sided_window(w, x, f):
     assert one_sided(1.0, w, 4.0, 1.0, 0.0) == pytest.approx((x, f))
+
+
+def test_a_plug_below_the_pipes_round_off_is_decided_on_its_own_forces():
+    # fuzz 4071:4781: the pipe/plug contact slides (the pipe advances over the plug, whose
+    # friction 6e-9 N pushes it ahead, w2 = 6e-9 N / m2); its face holds up to 14.5 N; the
+    # pipe decelerates under 6.2e4 N. By hand the plug is held: x2 = 0, f3 = -6e-9 N, s3 = 0
+    # (and the pipe goes on decelerating, x1 = w1). All forces together put the wrong pattern
+    # "plug carried backward" (violated by 6e-9 N) within their round-off of 6.2e-9 N.
+    m1, m2, w1, friction, qp = 5.366, 3.289e-14, -11599.6, 5.57e-9, 14.5
+    x1, x2, f1, f2, f3, s1, s2, s3 = sliding_pair(m1, m2, w1, friction / m2, 0.0, 0.0, qp)
+    assert (x1, x2, f1, f2, s1, s2, s3) == (w1, 0.0, 0.0, 0.0, -1, -1, 0)
+    assert f3 == pytest.approx(-friction, rel=1e-15)

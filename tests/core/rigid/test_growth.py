@@ -302,3 +302,57 @@ def test_a_plug_a_hair_short_fills_the_pipe_at_its_relative_displacement():
     fills = [t for t, text in ref["events"] if "plug fills the pipe" in text]
     assert fills[0] == pytest.approx(t_f, rel=1e-12)
     assert ref["v_pipe"][-1] == pytest.approx(v_after(dt), rel=1e-12)
+
+
+def test_a_tiny_plug_held_by_its_face_stays_held_when_the_load_turns():
+    # fuzz 4071:4781. Model I without shaft friction; a plug of 1e-9 m, 3.8e-14 kg, held by its
+    # face (Qp = 38 N against its friction k L2 = 2.2e-9 N), cored by Q0 = 100 N; then Q turns
+    # to -1e5 N while the pipe still slides forward. By Coulomb's law by hand: the pipe slides
+    # over the plug, whose friction pushes it ahead (k L2 > 0), which its face holds (k L2 <
+    # Qp): the plug stays at rest, the pipe decelerates under Q - k L2 until it stops. (The
+    # joint modes took "the plug carried backward", violated by 3e-9 N, the plug's own forces,
+    # as within round-off of all of them, 1e-8 N; its piece ended at once and started again,
+    # more than 100000 events in one step.)
+    p = Params(**dict(BASE, tau1=0.0, tau2=10.0, rho2=0.01, L1=1.0, L2=1e-9,
+                      q_plug_face=1e4))
+    k = 2.0 * math.pi * p.R1 * p.tau2
+    q0, t1, q = 100.0, 1e-6, -1e5
+    a0 = (q0 - k * p.L2) / p.M1
+    v1, u1 = a0 * t1, 0.5 * a0 * t1 * t1
+    a = (q - k * (p.L2 + u1)) / p.M1
+    dt = 0.5 * v1 / -a                   # half way to the pipe's stop
+    model = build_model(p, GROW)
+    model.advance_to(q0, t1)
+    model.advance_to(q, t1 + dt)
+    out = model.outputs()
+    assert out.v_plug == 0.0 and out.u_plug == 0.0
+    assert out.v_pipe == pytest.approx(v1 + a * dt, rel=1e-12)
+    assert out.L2_now == pytest.approx(p.L2 + u1 + v1 * dt + 0.5 * a * dt * dt, rel=1e-12)
+
+
+def test_a_plug_sliding_back_into_a_held_pipe_fills_it_before_it_stops():
+    # fuzz 4081:3405: a held pipe, the plug sliding back into it (s2 = +1, V2 < 0), slowed by
+    # its friction k L2 while it grows (soil entering at rest adds no momentum): with x = L2,
+    # d(mu x V2)/dt = k x and x' = -V2, so (x V2)^2/2 + k x^3/(3 mu) is constant and the plug
+    # would stop at x_s^3 = x0^3 + 3 mu (x0 V0)^2/(2k). With x_s = L1 + 2e-6 m it fills the
+    # pipe first, at t_f = int_x0^L1 dx/|V2|. (One step took both and found only the stop, at
+    # which L2 had gone 1.9e-6 m past L1: positive at both ends of the step, past the stop the
+    # length's function had come back.)
+    mu, k, x0, L1 = 0.041, 23.0, 0.9996, 1.0
+    xs = L1 + 2e-6
+    v0 = -math.sqrt((xs ** 3 - x0 ** 3) * 2.0 * k / (3.0 * mu)) / x0
+    # t_f with x = xs - s^2: dt = 2 x ds / sqrt(2k (xs^2 + xs x + x^2)/(3 mu)), smooth in s
+    nodes, weights = np.polynomial.legendre.leggauss(30)
+    a, b = math.sqrt(xs - L1), math.sqrt(xs - x0)
+    s = 0.5 * (b - a) * nodes + 0.5 * (a + b)
+    x = xs - s * s
+    t_f = 0.5 * (b - a) * np.sum(weights * 2.0 * x / np.sqrt(
+        2.0 * k * (xs * xs + xs * x + x * x) / (3.0 * mu)))
+    c = {"m1": 5.4, "mu": mu, "k": k, "L1": L1, "qp": 80.0, "face1": 0.0, "force0": 0.0,
+         "kappa": 0.0, "end": math.inf, "t1p": 4.7e4, "t1m": 4.7e4}
+    y0 = [0.0, 0.0, 0.0, mu * x0 * v0, x0, 0.0, 0.0, 0.0, 0.0]
+    slide = coring.Slide(0.0, y0, v0, (0, 1, -1), 0.0, c)
+    t, y, labels = slide.first_event(1.0)
+    assert labels == coring.FULL
+    assert t == pytest.approx(t_f, rel=1e-9)
+    assert y[4] == pytest.approx(L1, abs=1e-13)
