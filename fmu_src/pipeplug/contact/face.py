@@ -29,7 +29,7 @@ from __future__ import annotations
 from ..jit import jitable
 from .coulomb import SLACK
 
-__all__ = ["PATTERNS", "face_contacts", "face_pattern", "one_sided", "sliding_force",
+__all__ = ["PATTERNS", "sign", "face_contacts", "face_pattern", "one_sided", "sliding_force",
            "sliding_pair"]
 
 #: sign patterns (s1, s2, s3), most stuck first
@@ -144,11 +144,12 @@ def sliding_pair(m1, m2, w1, w2, c1p, c1m, c3p):
     joint = SLACK * (abs(m1 * w1) + abs(m2 * w2) + c1p + c1m + c3p)
     x1, f1 = one_sided(m1, w1, c1p, c1m, joint)
     x2, f3 = one_sided(m2, w2, c3p, 0.0, SLACK * (abs(m2 * w2) + c3p))
-    return x1, x2, f1, 0.0, f3, _sign(x1), _sign(x1 - x2), _sign(x2)
+    return x1, x2, f1, 0.0, f3, sign(x1), sign(x1 - x2), sign(x2)
 
 
 @jitable
-def _sign(x):
+def sign(x):
+    """-1, 0 or 1: the direction of ``x`` (a velocity or a force)."""
     if x > 0.0:
         return 1
     if x < 0.0:

@@ -26,7 +26,7 @@ The end forces of a piece, ``FACE1`` on the pipe and ``FACE3`` on the plug, are 
 from __future__ import annotations
 
 from ..contact.coulomb import SLACK
-from ..contact.face import face_contacts, one_sided, sliding_force, sliding_pair
+from ..contact.face import face_contacts, one_sided, sign, sliding_force, sliding_pair
 from ..contact.outer import face_on, limit, segment
 from ..jit import jitable
 from .motion import motion, travel
@@ -67,15 +67,6 @@ __all__ = ["face_modes", "make_face_piece", "face_work_at"]
 
 
 @jitable
-def _sign(x):
-    if x > 0.0:
-        return 1
-    if x < 0.0:
-        return -1
-    return 0
-
-
-@jitable
 def face_modes(par, m1, q, u1, v1, v2, kick, kick1):
     """The contact modes ``(s1, s2, s3)`` at an origin and the soil's and the plug's forces on
     the pipe and the soil's on the plug ``(f1, f2, f3)`` [N] (sliding or static) under the force
@@ -90,11 +81,11 @@ def face_modes(par, m1, q, u1, v1, v2, kick, kick1):
     law = law_of(par)
     c1 = limit(law, u1)
     c1p = c1 + par[P_QF] * face_on(law, u1)
-    s1 = _sign(v1)
+    s1 = sign(v1)
     if s1 == 0:
         s1 = kick1
-    s2 = _sign(v1 - v2) if coupled else 0
-    s3 = _sign(v2) if coupled else 0
+    s2 = sign(v1 - v2) if coupled else 0
+    s3 = sign(v2) if coupled else 0
     f1 = sliding_force(s1, c1p, c1) if s1 != 0 else 0.0
     f2 = -s2 * f2_limit
     f3 = sliding_force(s3, qp, 0.0) if s3 != 0 else 0.0
@@ -111,7 +102,7 @@ def face_modes(par, m1, q, u1, v1, v2, kick, kick1):
     else:
         cp, cm = (0.0, 0.0) if s1 != 0 else (c1p, c1)
         x1, g1 = one_sided(m1, w1, cp, cm, SLACK * (abs(m1 * w1) + cp + cm))
-        p1, p2, p3, g2, g3 = _sign(x1), 0, 0, 0.0, 0.0
+        p1, p2, p3, g2, g3 = sign(x1), 0, 0, 0.0, 0.0
     if s1 == 0:
         s1 = p1
     if s2 == 0:

@@ -27,6 +27,7 @@ from __future__ import annotations
 import math
 
 from ..contact.coulomb import SLACK, one_contact, two_contacts
+from ..contact.face import sign
 from ..contact.outer import limit, segment, work
 from ..jit import jitable
 from .motion import (
@@ -103,15 +104,6 @@ def plug_of(st):
 
 
 @jitable
-def _sign(x):
-    if x > 0.0:
-        return 1
-    if x < 0.0:
-        return -1
-    return 0
-
-
-@jitable
 def contact_modes(par, m1, q, u1, v1, v2, kick, kick1):
     """The contact modes ``(s1, s2)`` at an origin and the static and sliding friction forces
     ``(f1s, f2s, f1_sliding, f2_sliding)`` [N] under the force ``q`` [N] on a pipe of mass
@@ -124,10 +116,10 @@ def contact_modes(par, m1, q, u1, v1, v2, kick, kick1):
     m2, f2_limit = par[P_M2], par[P_F2]
     coupled = par[P_COUPLED] != 0.0
     law = law_of(par)
-    s1 = _sign(v1)
+    s1 = sign(v1)
     if s1 == 0:
         s1 = kick1
-    s2 = _sign(v1 - v2) if coupled else 0
+    s2 = sign(v1 - v2) if coupled else 0
     c1 = limit(law, u1)
     f1_sliding = -s1 * c1 if s1 != 0 else 0.0
     f2_sliding = -s2 * f2_limit
@@ -141,7 +133,7 @@ def contact_modes(par, m1, q, u1, v1, v2, kick, kick1):
         # The round-off share two_contacts always allows: a load at the limit to round-off
         # (1 ulp above it, as Q = F1 computed in another order) holds the pipe, plug or not.
         x1, f1s = one_contact(m1, w1, c1_static, SLACK * (abs(m1 * w1) + c1_static))
-        p1, p2, f2s = _sign(x1), 0, 0.0
+        p1, p2, f2s = sign(x1), 0, 0.0
     if s1 == 0:
         s1 = p1
     if s2 == 0:
