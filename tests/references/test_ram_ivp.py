@@ -239,6 +239,14 @@ FAMILIES = (("v_pipe", "v_plug", "v_ram"), ("u_pipe", "u_plug"),
             ("W_input", "W_friction", "W_cushion", "E_kinetic", "W_ram", "E_strain", "W_face"))
 
 
+def _assert_agrees(core, ref):
+    """Every output of the core within 1e-9 of its family's largest reference value."""
+    for family in FAMILIES:
+        scale = max(np.abs(ref[n]).max() for n in family) or 1.0
+        for name in family:
+            assert np.abs(core[name] - ref[name]).max() <= 1e-9 * scale, name
+
+
 @pytest.mark.parametrize("seed, face", [(s, False) for s in range(10)]
                          + [(s, True) for s in range(10, 15)])
 def test_the_exact_solver_agrees_with_the_reference_on_random_strikes(seed, face):
@@ -247,10 +255,7 @@ def test_the_exact_solver_agrees_with_the_reference_on_random_strikes(seed, face
     times = np.unique(np.r_[np.linspace(0.0, stop, 200)[1:], rng.uniform(0.0, stop, 50)])
     ref = simulate_ram(params, ram, history, times)
     core = _core(params, ram, history, list(times))
-    for family in FAMILIES:
-        scale = max(np.abs(ref[n]).max() for n in family) or 1.0
-        for name in family:
-            assert np.abs(core[name] - ref[name]).max() <= 1e-9 * scale, name
+    _assert_agrees(core, ref)
 
 
 def test_imports_nothing_of_the_project():
@@ -377,10 +382,7 @@ def test_a_stiff_cushion_bouncing_for_long_agrees_with_the_exact_solver():
     times = np.linspace(0.0, stop, 401)[1:]
     ref = simulate_ram(params, ram, history, times)
     core = _core(params, ram, history, list(times))
-    for family in FAMILIES:
-        scale = max(np.abs(ref[n]).max() for n in family) or 1.0
-        for name in family:
-            assert np.abs(core[name] - ref[name]).max() <= 1e-9 * scale, name
+    _assert_agrees(core, ref)
 
 
 def test_a_carried_pair_just_released_stops_while_the_cushion_loads():
@@ -403,10 +405,7 @@ def test_a_carried_pair_just_released_stops_while_the_cushion_loads():
     stops = [t for t, text in ref["events"] if text.startswith("pipe stops")]
     assert len(stops) == 2 and 2.14e-4 < stops[1] < 2.15e-4
     core = _core(params, ram, history, list(times))
-    for family in FAMILIES:
-        scale = max(np.abs(ref[n]).max() for n in family) or 1.0
-        for name in family:
-            assert np.abs(core[name] - ref[name]).max() <= 1e-9 * scale, name
+    _assert_agrees(core, ref)
 
 
 def test_a_pipe_set_sliding_at_t_0_by_the_cushion_goes_on():
@@ -424,10 +423,7 @@ def test_a_pipe_set_sliding_at_t_0_by_the_cushion_goes_on():
     ref = simulate_ram(params, ram, history, times)
     core = _core(params, ram, history, list(times))
     assert ref["v_pipe"][-1] > 0.0
-    for family in FAMILIES:
-        scale = max(np.abs(ref[n]).max() for n in family) or 1.0
-        for name in family:
-            assert np.abs(core[name] - ref[name]).max() <= 1e-9 * scale, name
+    _assert_agrees(core, ref)
 
 
 @pytest.mark.parametrize("ulps", [-1, 0, 1, 4])
@@ -488,7 +484,4 @@ def test_a_ram_meeting_a_returning_pipe_just_before_it_stops_is_a_contact():
     ref = simulate_ram(params, ram, history, np.array(times))
     assert _event_times(ref, "ram reaches the head") == [pytest.approx(contact, rel=1e-12)]
     core = _core(params, ram, history, times)
-    for family in FAMILIES:
-        scale = max(np.abs(ref[n]).max() for n in family) or 1.0
-        for name in family:
-            assert np.abs(core[name] - ref[name]).max() <= 1e-9 * scale, name
+    _assert_agrees(core, ref)
