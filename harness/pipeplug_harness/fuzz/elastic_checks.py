@@ -17,7 +17,8 @@ from .checks import relative_error
 from .elastic_cases import ElasticCase, internal_step
 from .runners import COLUMN
 
-__all__ = ["RodBody", "LEDGER_BASE", "LEDGER_PER_STEP", "ledger_error", "energy_violations",
+__all__ = ["RodBody", "LEDGER_BASE", "LEDGER_PER_STEP", "ledger_error", "ledger_roundoff",
+           "energy_violations",
            "bound_ratio", "free_rod_error"]
 
 _WORKS = LEDGER_SOURCES + LEDGER_TERMS + ("W_friction_outer", "W_friction_inner")
@@ -76,35 +77,49 @@ def ledger_error(rows, times, h: float) -> float:
     (1e-12 + 2.2e-16 n) x the largest work or energy of the run, n the internal steps taken
     by ``times`` [s] (steps of ``h`` [s])."""
     balance = ledger_residual({name: _column(rows, name) for name in COLUMN})
-    allowance = LEDGER_BASE + LEDGER_PER_STEP * np.floor(np.asarray(times) / h + 1e-6)
-    return relative_error(balance / allowance, 0.0, _largest_work(rows))
+    return relative_error(balance / _relative_allowance(times, h), 0.0, _largest_work(rows))
+
+
+def _relative_allowance(times, h: float):
+    """(1e-12 + 2.2e-16 n) [1], n the internal steps of ``h`` [s] taken by ``times`` [s]."""
+    return LEDGER_BASE + LEDGER_PER_STEP * np.floor(np.asarray(times) / h + 1e-6)
+
+
+def ledger_roundoff(rows, times, h: float):
+    """The ledger's allowance at ``times`` [s] in joules: (1e-12 + 2.2e-16 n) x the largest
+    work or energy of the run, n the internal steps of ``h`` [s] taken (0 without times)."""
+    if times is None or h <= 0.0:
+        return 0.0
+    return _relative_allowance(times, h) * _largest_work(rows)
 
 
 def energy_violations(rows, cushion_allowance: float = 0.0, m_ram: float = 0.0,
                       times=None, h: float = 0.0) -> float:
     """Points where a term of the ledger is negative (the cushion's loss below
     ``-cushion_allowance`` [J], :meth:`RodBody.cushion_allowance`, and the ledger's round-off
-    at ``times``), W_numerical is not 0, the
-    friction work exceeds the work put in (force and ram) by more than that, an output is not finite, or the model
-    claims rest while pipe or plug move or anything but a ram of ``m_ram`` [kg] holds kinetic
-    energy."""
+    at ``times``, :func:`ledger_roundoff`), W_numerical is not 0, the friction work exceeds
+    the work put in (force and ram) by more than the same two allowances, an output is not
+    finite, or the model claims rest while pipe or plug move or anything but a ram of
+    ``m_ram`` [kg] holds kinetic energy."""
     c = COLUMN
     bad = ~np.all(np.isfinite(rows), axis=1)
     # W_cushion is the work on the cushion less what it holds: 0 on its lines, to the ledger's
     # round-off (``times`` [s] at steps of ``h`` [s] give the steps taken)
-    roundoff = 0.0
-    if times is not None and h > 0.0:
-        roundoff = (LEDGER_BASE + LEDGER_PER_STEP * np.floor(np.asarray(times) / h + 1e-6)) \
-            * _largest_work(rows)
+    roundoff = ledger_roundoff(rows, times, h)
     for name in LEDGER_TERMS:
         floor = -(cushion_allowance + roundoff) if name == "W_cushion" else 0.0
         bad |= _column(rows, name) < floor
     bad |= _column(rows, "W_numerical") != 0.0
     # soil taken in at rest never gives energy back
     bad |= np.diff(_column(rows, "W_accretion"), prepend=0.0) < 0.0
-    # What the cushion may give back is the only energy the scheme may create.
+    # What the cushion may give back is the only energy the scheme may create. The bound
+    # follows from the ledger: W_input + W_ram = the stored energies + every loss + residual,
+    # every term but the cushion's >= 0, the cushion's >= -cushion_allowance and |residual|
+    # <= roundoff, so W_friction <= W_input + W_ram + cushion_allowance + roundoff. The
+    # round-off matters where pushes and pulls cancel: W_input a few ulps below 0 with the
+    # bodies at rest and no friction work.
     bad |= (_column(rows, "W_friction")
-            > _column(rows, "W_input") + _column(rows, "W_ram") + cushion_allowance)
+            > _column(rows, "W_input") + _column(rows, "W_ram") + cushion_allowance + roundoff)
     resting = rows[:, c["at_rest"]] != 0.0
     # At rest only a ram flying off the head may still move (its energy is all E_kinetic).
     v_ram = _column(rows, "v_ram")
