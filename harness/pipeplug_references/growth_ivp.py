@@ -6,7 +6,11 @@ grows")::
 
     M1 U1'' = Q + f1 + e1 + f2,          f2 = -r k L2 while sliding (k = P2 tau2)
     P' = r k L2 + e3 - mu (V2 - V1)+ V2,  P = mu L2 V2 (mu = rho2 S2),  L2' = V1 - V2
-    W_accretion' = mu |V1 - V2| V2^2 / 2
+    W_accretion' = mu |V1 - V2| V2^2 / 2,  G' = V2 - V1
+
+The gap G = L1 - L2 between the plug and the head is a state of its own, carried from piece to
+piece: the plug fills the pipe at G = 0, known to the precision of the gap, not to round-off of
+L1 as L1 - L2 would be (a plug pulled 1e-8 m out and driven back, fuzz growth 4043:6960).
 
 At L2 = L1 the pipe is plugged (the plug meets the head in a plastic impact and is carried
 until it slides ahead); at L2 = 0 the plug is gone (the pipe alone, coring again as soon as
@@ -33,7 +37,7 @@ __all__ = ["simulate_growth", "OUTPUT_NAMES"]
 
 OUTPUT_NAMES = ("v_pipe", "v_plug", "u_pipe", "u_plug", "L2_now", "W_input", "W_friction_outer",
                 "W_friction_inner", "W_face", "W_accretion", "W_removed", "E_kinetic")
-_U1, _V1, _U2, _P, _L2, _WO, _WI, _WF, _WA = range(9)
+_U1, _V1, _U2, _P, _L2, _WO, _WI, _WF, _WA, _GAP = range(10)
 _EMPTY = 1e-10          #: of L1: a shorter plug is taken as gone at a decision
 
 
@@ -98,7 +102,7 @@ def _rhs(g, s, q, mode, u_start, l2_0):
             a1 = (q - p * c1 + face + e3) / (g.M1 + g.mu * l2) if p else 0.0
             carried = v1 if (l2 > 0.0 or g.gripped) else 0.0
             return [v1, a1, carried, g.mu * l2 * a1, 0.0, p * c1 * v1, 0.0, -(face + e3) * v1,
-                    0.0]
+                    0.0, 0.0]
         v2 = _v2(g, mode, y, l2_0)
         a1 = (q - p * c1 + face - r * g.k * l2) / g.M1 if p else 0.0
         e3 = (-g.qp if gg > 0 else 0.0) if gg else 0.0
@@ -108,7 +112,7 @@ def _rhs(g, s, q, mode, u_start, l2_0):
         elif gg:
             dp = r * g.k * l2 + e3
         return [v1, a1, v2, dp, v1 - v2, p * c1 * v1, r * g.k * l2 * (v1 - v2), -face * v1
-                - e3 * v2, 0.5 * g.mu * abs(v1 - v2) * v2 * v2]
+                - e3 * v2, 0.5 * g.mu * abs(v1 - v2) * v2 * v2, v2 - v1]
     return rhs
 
 
@@ -138,7 +142,7 @@ def _events(g, s, q, mode, y0, merged, v_tol, l2_0):
         rest = max(v_tol, 1e-15 * abs(y0[_V1])) if y0[_V1] == _v2(g, mode, y0) else 0.0
         add(lambda y: r * (y[_V1] - v2(y)) + rest, "plug sticks")
         if r > 0:
-            add(lambda y: (g.L1 - l2_0) - y[_L2], "plug fills the pipe")
+            add(lambda y: y[_GAP], "plug fills the pipe")
         else:
             # shorter than round-off of L1 it is gone (as at a decision): a plug held back by
             # its face slows as qp/(mu L2) and would stop only some 1e-17 m before its end
@@ -213,7 +217,7 @@ def _decide(g, q, y, forced=(0, 0, 0)):
     # A full plug that does not slide ahead is one body with the pipe, also at rest: its face
     # is the body's front (model II: in the soil from U1 = 0 on). Held as a plug of its own
     # it took Qp at U1 < 0 and kept a pushed pipe at rest there (fuzz 4043:6970).
-    if l2 >= g.L1 and mode[1] >= 0:
+    if y[_GAP] <= 0.0 and mode[1] >= 0:
         sm = g.system(l2, merged=True)
         (p, _, _), _ = face_modes(sm, q, float(y[_U1]), ps, 0, 0)
         return (p, 0, p), True
@@ -237,7 +241,7 @@ def _self_similar(g, s, q, y, t, w_in):
     y[_U1] += d1
     y[_V1] = a1 * tau
     y[_U2] += c * d1
-    y[_P], y[_L2] = g.mu * l2 * v2, l2
+    y[_P], y[_L2], y[_GAP] = g.mu * l2 * v2, l2, g.L1 - l2
     y[_WO] += c1 * d1
     y[_WI] += g.k * (1.0 - c) * a1 * slip * tau ** 4 / 8.0
     y[_WF] += qf * d1
@@ -337,9 +341,10 @@ def _simulate(params, segments, times, contact_growth, cleanouts, rtol, max_piec
         lscale, vscale, wscale = max(scales[0], g.L1), scales[1], scales[2]
     out["scales"] = (lscale, vscale, wscale)
     atol = 1e-3 * rtol * np.array([lscale, vscale, lscale, g.mu * g.L1 * vscale, g.L1,
-                                   wscale, wscale, wscale, wscale])
-    y = np.zeros(9)
+                                   wscale, wscale, wscale, wscale, g.L1])
+    y = np.zeros(10)
     y[_L2] = float(params.get("L2", 1.0))
+    y[_GAP] = g.L1 - y[_L2]
     w_in = w_removed = 0.0
     events = []
     k = 0
@@ -369,7 +374,7 @@ def _simulate(params, segments, times, contact_growth, cleanouts, rtol, max_piec
             # A plug of a length below round-off of the pipe's is gone: its velocity (P over a
             # vanishing mass) no longer tells a mode; moving with the pipe, it may grip it.
             g.gripped = g.gripped or v2_now == y[_V1]
-            y[_L2], v2_now = 0.0, 0.0
+            y[_L2], y[_GAP], v2_now = 0.0, g.L1, 0.0
         yy = np.append(y, v2_now)
         mode, merged = _decide(g, q, yy, forced)
         if mode[1] == 0:
@@ -383,7 +388,7 @@ def _simulate(params, segments, times, contact_growth, cleanouts, rtol, max_piec
         q = load_at(ta)
         if ta in cleaned and y[_L2] > g.after:
             w_removed += 0.5 * g.mu * (y[_L2] - g.after) * v2_now ** 2
-            y[_L2] = g.after
+            y[_L2], y[_GAP] = g.after, g.L1 - g.after
             if g.after == 0.0:
                 v2_now = 0.0
         decide(q)
@@ -411,11 +416,9 @@ def _simulate(params, segments, times, contact_growth, cleanouts, rtol, max_piec
                 tight[_P] = 1e-3 * rtol * g.mu * max(y0[_L2], 1e-30 * g.L1) * vscale
             elif _shrinks(mode):
                 tight[_P] = atol[_V1]
-            # A growing plug's length is integrated as its change since the piece's start: it
-            # fills the pipe at a relative displacement of L1 - L2, not where a length near L1
-            # held to its round-off says so (fuzz 4043:6960: the fill 6e-14 s off, the
-            # velocity after it 1e-8 of itself). A shrinking one's is its length itself,
-            # precise where it leaves the pipe (there its face's force goes as 1/L2).
+            # A growing plug's length is integrated as its change since the piece's start (the
+            # fill is the gap's zero, above). A shrinking one's is its length itself, precise
+            # where it leaves the pipe (there its face's force goes as 1/L2).
             l2_0 = y0[_L2] if mode[1] > 0 else 0.0
             start = y0.copy()
             start[_L2] -= l2_0
@@ -470,14 +473,14 @@ def _simulate(params, segments, times, contact_growth, cleanouts, rtol, max_piec
                 m2 = g.mu * y[_L2]
                 v2_now = y[_V1] = (g.M1 * y[_V1] + m2 * v2_now) / (g.M1 + m2) if p else 0.0
             if "plug fills the pipe" in fired:
-                y[_L2] = g.L1
+                y[_L2], y[_GAP] = g.L1, 0.0
                 m2 = g.mu * g.L1
                 v = (g.M1 * y[_V1] + m2 * v2_now) / (g.M1 + m2)
                 y[_WA] += 0.5 * (g.M1 * y[_V1] ** 2 + m2 * v2_now ** 2 - (g.M1 + m2) * v * v)
                 y[_V1] = v2_now = v
             if "plug leaves the pipe" in fired:       # its rest comes to rest ahead
                 y[_WA] += 0.5 * g.mu * y[_L2] * v2_now ** 2
-                y[_L2], v2_now = 0.0, 0.0
+                y[_L2], y[_GAP], v2_now = 0.0, g.L1, 0.0
             if "held pipe goes" in fired:
                 forced[0] = 1 if q - r * g.k * y[_L2] > 0.0 else -1
                 forced[1], forced[2] = r, gg

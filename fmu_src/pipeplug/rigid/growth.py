@@ -75,7 +75,7 @@ __all__ = ["RigidGrowth"]
 _EVENT_SNAP = 1e-13            # as the exact solver's: an event this close after a step's end
 _EMPTY = 1e-10                 # of L1: a shorter plug is gone (at the start of a piece)
 _EXTRUDE = 1 << 20             # a plugged pipe's plug starts sliding ahead (merged pieces)
-_SLIDE_KEYS = 9 + 9 + 11       # origin y, node y, and the scalars of a Slide in a state
+_SLIDE_KEYS = 2 * coring.STATE_SIZE + 11   # origin y, node y, a Slide's scalars in a state
 
 
 class RigidGrowth(ModelBase):
@@ -108,6 +108,7 @@ class RigidGrowth(ModelBase):
         self._k = params.P2 * params.tau2       # plug friction limit per length [N/m]
         self._qp, self._qf = params.F_plug_face, params.F_face
         self._l2 = float(params.L2)
+        self._gap = float(params.L1 - params.L2)   # L1 - L2, exact near a full plug (coring)
         self._w_acc = self._w_rem = 0.0
         self._u2_keep = 0.0             # the plug's displacement while there is none
         self._merged = False            # plugged: pipe and plug one body of the exact solver
@@ -157,7 +158,7 @@ class RigidGrowth(ModelBase):
         """Remove the plug down to ``L2_after_cleanout`` now (nothing if it is shorter); the
         removed soil's kinetic energy is booked as ``W_removed``."""
         u1, v1, u2, v2, w = self._values(self._time)
-        self._l2, self._w_acc = w[5], w[4]       # a slide's, now
+        self._l2, self._w_acc, self._gap = w[5], w[4], w[6]      # a slide's, now
         keep = min(self.params.L2_after_cleanout, self._l2)
         if keep == self._l2:
             return
@@ -168,7 +169,7 @@ class RigidGrowth(ModelBase):
     def outputs(self) -> Outputs:
         """The contract's outputs at the current time."""
         t = self._time
-        u1, v1, u2, v2, (w_in, w_outer, w_inner, w_face, w_acc, l2) = self._values(t)
+        u1, v1, u2, v2, (w_in, w_outer, w_inner, w_face, w_acc, l2, _) = self._values(t)
         f1, f2, face1 = self._forces(t, u1)
         q = self._q if self._q == self._q else 0.0
         area = self.params.S1
@@ -199,21 +200,24 @@ class RigidGrowth(ModelBase):
             par[P_QP] = self._qp if coupled else 0.0
         return par
 
-    def _set_length(self, l2: float, u2: float) -> None:
+    def _set_length(self, l2: float, u2: float, gap: float | None = None) -> None:
+        """The plug's length ``l2`` [m] and its gap to the head ``gap`` [m] (default
+        ``L1 - l2``); ``u2`` [m] the plug's displacement, kept where it is gone."""
         if l2 <= 0.0:
-            l2, self._u2_keep = 0.0, u2
+            l2, gap, self._u2_keep = 0.0, None, u2
         self._l2 = l2
+        self._gap = self.params.L1 - l2 if gap is None else gap
 
     # pieces ------------------------------------------------------------------------------
     def _values(self, t):
         """``(U1, V1, U2, V2, works)`` at ``t`` [s], works ``(W_input, W_outer, W_inner,
-        W_face, W_accretion)`` [J] followed by the plug's length [m]."""
+        W_face, W_accretion)`` [J] followed by the plug's length and its gap to the head [m]."""
         if self._slide is not None:
             sl = self._slide
             y = sl.value_at(t - sl.node_t)
             w_in = self._slide_w_in + sl.q * (y[0] - sl.u1_origin)
             v1 = y[1] if sl.s1 != 0 else 0.0
-            return y[0], v1, y[2], sl.velocity2(y), (w_in, y[5], y[6], y[7], y[8], y[4])
+            return y[0], v1, y[2], sl.velocity2(y), (w_in, y[5], y[6], y[7], y[8], y[4], y[9])
         st, par = self._st, self._par
         u1, v1, u2, v2, w_in, w_outer, w_inner = values_at(st, par, t)
         w_face = face_work_at(st, t - st[T0])
@@ -221,7 +225,8 @@ class RigidGrowth(ModelBase):
             u2, v2 = self._merge_origin[1] + (u1 - self._merge_origin[0]), v1
         elif self._l2 == 0.0:
             u2, v2 = self._u2_keep, 0.0
-        return u1, v1, u2, v2, (w_in, w_outer, w_inner, w_face, self._w_acc, self._l2)
+        return u1, v1, u2, v2, (w_in, w_outer, w_inner, w_face, self._w_acc, self._l2,
+                                self._gap)
 
     def _forces(self, t, u1):
         """``(F_outer, F_inner, the soil's force on the pipe's front end)`` [N] at ``t``."""
@@ -249,7 +254,7 @@ class RigidGrowth(ModelBase):
         """A new force ``q`` [N] from now: a new piece."""
         t = self._time
         u1, v1, u2, v2, w = self._values(t)
-        self._l2, self._w_acc = w[5], w[4]       # a slide's, now
+        self._l2, self._w_acc, self._gap = w[5], w[4], w[6]      # a slide's, now
         if self._slide is None:
             v1, v2 = settle(self._st, self._par, self._par[P_M1], v1, v2)
             if self._merged or self._l2 == 0.0:
@@ -273,7 +278,7 @@ class RigidGrowth(ModelBase):
         coupled = l2 > 0.0
         s1, s2, s3, _, _, _ = face_modes(real, self.M1, load, u1, v1, v2 if coupled else 0.0,
                                          kick, 0)          # no ram pushes a held pipe here
-        plugged = l2 >= self.params.L1
+        plugged = self._gap <= 0.0
         if coupled and s2 != 0 and not (plugged and s2 > 0):
             self._begin_slide(t, u1, v1, u2, v2, w, load, (s1, s2, s3))
         elif not coupled and s1 > 0 and not self._grips(u1, v1, load):
@@ -324,7 +329,7 @@ class RigidGrowth(ModelBase):
         v2 = 0.0 if s3 == 0 else v2
         w_in, w_outer, w_inner, w_face, w_acc = w[:5]
         y0 = [u1, v1 if s1 != 0 else 0.0, u2, self._mu * self._l2 * v2, self._l2, w_outer,
-              w_inner, w_face, w_acc]
+              w_inner, w_face, w_acc, self._gap]
         if self._l2 == 0.0 and v1 == 0.0 and s3 != 0:
             t, y0, v2, w_in = self._nascent(t, y0, q, w_in)
         self._make_slide(t, y0, v2, modes, q, w_in)
@@ -348,7 +353,7 @@ class RigidGrowth(ModelBase):
         y = [u1 + d1, v1, y0[2] + c * d1, self._mu * l2 * v2, l2,
              y0[5] - (force0 - kappa * u1) * d1, y0[6] + self._k * (1.0 - c) * a1 * slip
              * tau ** 4 / 8.0, y0[7] + face * d1,
-             y0[8] + self._mu * slip * (c * a1) ** 2 * tau ** 4 / 8.0]
+             y0[8] + self._mu * slip * (c * a1) ** 2 * tau ** 4 / 8.0, y0[9] - l2]
         return t + tau, y, v2, w_in + q * d1
 
     def _make_slide(self, t, y0, v2, modes, q, w_in):
@@ -424,7 +429,7 @@ class RigidGrowth(ModelBase):
 
     def _take_slide_event(self, t, y, labels):
         sl = self._slide
-        u1, u2, l2 = y[0], y[2], y[4]
+        u1, u2, l2, gap = y[0], y[2], y[4], y[9]
         v1 = y[1] if sl.s1 != 0 else 0.0
         v2 = sl.velocity2(y)
         w_in = self._slide_w_in + sl.q * (u1 - sl.u1_origin)
@@ -440,13 +445,13 @@ class RigidGrowth(ModelBase):
             m2 = self._mu * l2
             v1 = v2 = (self.M1 * v1 + m2 * v2) / (self.M1 + m2) if s1 != 0 else 0.0
         if labels & coring.FULL:        # the plug meets the head: a plastic impact
-            l2 = self.params.L1
+            l2, gap = self.params.L1, 0.0
             m2 = self._mu * l2
             v = (self.M1 * v1 + m2 * v2) / (self.M1 + m2)
             w_acc += 0.5 * (self.M1 * v1 * v1 + m2 * v2 * v2 - (self.M1 + m2) * v * v)
             v1 = v2 = v
         self._w_acc = w_acc
-        self._set_length(0.0 if labels & coring.EMPTY else l2, u2)
+        self._set_length(0.0 if labels & coring.EMPTY else l2, u2, gap)
         if self._l2 == 0.0:
             v2 = 0.0
         w = (w_in, y[5], y[6], y[7], w_acc)
@@ -469,10 +474,12 @@ class RigidGrowth(ModelBase):
         slide = np.zeros(_SLIDE_KEYS)
         sl = self._slide
         if sl is not None:
-            slide[:9], slide[9:18] = sl.y0, sl.node_y
-            slide[18:] = (1.0, sl.t0, sl.v2_origin, sl.s1, sl.s2, sl.s3, sl.q, sl.node_t, sl.h,
+            n = coring.STATE_SIZE
+            slide[:n], slide[n:2 * n] = sl.y0, sl.node_y
+            slide[2 * n:] = (1.0, sl.t0, sl.v2_origin, sl.s1, sl.s2, sl.s3, sl.q, sl.node_t, sl.h,
                           sl.steps, self._slide_w_in)
-        return {"time": self._time, "q": self._q, "L2_now": self._l2, "W_accretion": self._w_acc,
+        return {"time": self._time, "q": self._q, "L2_now": self._l2, "gap": self._gap,
+                "W_accretion": self._w_acc,
                 "W_removed": self._w_rem, "u2_keep": self._u2_keep,
                 "merged": float(self._merged), "gripped": float(self._gripped),
                 "merge_u1": self._merge_origin[0],
@@ -483,6 +490,7 @@ class RigidGrowth(ModelBase):
         """Restore a state from :meth:`get_state`."""
         self._time, self._q = float(state["time"]), float(state["q"])
         self._l2, self._w_acc = float(state["L2_now"]), float(state["W_accretion"])
+        self._gap = float(state["gap"])
         self._w_rem, self._u2_keep = float(state["W_removed"]), float(state["u2_keep"])
         self._merged, self._gripped = bool(state["merged"]), bool(state["gripped"])
         self._merge_origin = (float(state["merge_u1"]), float(state["merge_u2"]))
@@ -491,8 +499,9 @@ class RigidGrowth(ModelBase):
         self._modes = [(int(a), int(b)) for a, b in np.asarray(state["modes"]).reshape(-1, 2)]
         slide = [float(x) for x in np.asarray(state["slide"])]
         self._slide = None
-        if slide[18] == 1.0:
-            t0, v2, s1, s2, s3, q, node_t, h, steps, w_in = slide[19:]
-            self._make_slide(t0, slide[:9], v2, (int(s1), int(s2), int(s3)), q, w_in)
+        n = coring.STATE_SIZE
+        if slide[2 * n] == 1.0:
+            t0, v2, s1, s2, s3, q, node_t, h, steps, w_in = slide[2 * n + 1:]
+            self._make_slide(t0, slide[:n], v2, (int(s1), int(s2), int(s3)), q, w_in)
             sl = self._slide
-            sl.node_t, sl.node_y, sl.h, sl.steps = node_t, slide[9:18], h, int(steps)
+            sl.node_t, sl.node_y, sl.h, sl.steps = node_t, slide[n:2 * n], h, int(steps)

@@ -147,7 +147,7 @@ def _held_slide(q=30e3):
     M1 U1'' = Q - F - k (L0 + U1), with the closed form below."""
     c = {"m1": 5.0, "mu": 7.0, "k": 2e4, "L1": 3.0, "qp": 1e9, "face1": 0.0, "force0": -1e3,
          "kappa": 0.0, "end": math.inf, "t1p": 1e3, "t1m": 1e3}
-    y0 = [0.0, 2.0, 0.0, 0.0, 0.5, 0.0, 0.0, 0.0, 0.0]
+    y0 = [0.0, 2.0, 0.0, 0.0, 0.5, 0.0, 0.0, 0.0, 0.0, 2.5]
     slide = coring.Slide(0.0, y0, 0.0, (1, 1, 0), q, c)
     w = math.sqrt(c["k"] / c["m1"])
     rest = (q + c["force0"] - c["k"] * 0.5) / c["k"]
@@ -290,7 +290,7 @@ def test_a_plug_a_hair_short_fills_the_pipe_at_its_relative_displacement():
     # The solver and the reference against the closed form. The reference integrated the
     # length itself, near L1 held to round-off of L1 (1e-16 m): the fill came 5e-15 s early
     # and the body's velocity after it was 6e-10 of itself off (2e-9 at this test's samples).
-    # It now integrates the length's change since the piece's start (fuzz 4043:6960).
+    # It now integrates the gap L1 - L2 (fuzz 4043:6960).
     params, q, t_f, v_after = _filling_by_a_hair()
     dt = 1e-6
     model = build_model(Params(**params), GROW)
@@ -350,9 +350,40 @@ def test_a_plug_sliding_back_into_a_held_pipe_fills_it_before_it_stops():
         2.0 * k * (xs * xs + xs * x + x * x) / (3.0 * mu)))
     c = {"m1": 5.4, "mu": mu, "k": k, "L1": L1, "qp": 80.0, "face1": 0.0, "force0": 0.0,
          "kappa": 0.0, "end": math.inf, "t1p": 4.7e4, "t1m": 4.7e4}
-    y0 = [0.0, 0.0, 0.0, mu * x0 * v0, x0, 0.0, 0.0, 0.0, 0.0]
+    y0 = [0.0, 0.0, 0.0, mu * x0 * v0, x0, 0.0, 0.0, 0.0, 0.0, L1 - x0]
     slide = coring.Slide(0.0, y0, v0, (0, 1, -1), 0.0, c)
     t, y, labels = slide.first_event(1.0)
     assert labels == coring.FULL
     assert t == pytest.approx(t_f, rel=1e-9)
     assert y[4] == pytest.approx(L1, abs=1e-13)
+
+
+@pytest.mark.parametrize("pull", [0.9e-5, 1.1e-5, 1.3e-5, 1.7e-5])
+def test_a_plug_pulled_out_and_driven_back_fills_the_pipe_where_it_was_full(pull):
+    """fuzz 4043:6960: a full plug of 112 kg in a pipe of 5.4 kg (model I, no shaft friction)
+    at rest, the pipe pulled back for ``pull`` [s] (the plug lags, 6e-8 to 2e-7 m of it
+    leaves through the front end), then driven forward: the pipe advances over the plug until
+    it is full again and carries it. The length follows the relative displacement, L2 = L1 +
+    (U1 - U2) from a full plug at U1 = U2 = 0, so the pipe is full again, and stays so, where
+    U1 = U2: to the displacements' round-off (16 ulps of 7e-7 m, 1.7e-21 m) in the solver, not
+    to L1's (1e-16 m), which a length near L1 carried from piece to piece was held to (the fill
+    1e-16 m off moved the velocity after it by 2e-9 of its scale in the case). The reference's
+    fill is scipy's event root, located to 4 eps [s] in time: within 4 eps x the largest
+    relative velocity, at most the impulse over the pipe's mass (0.48 m/s)."""
+    params = {"L1": 1.0, "L2": 1.0, "R1": 0.035, "h1": 0.003, "rho1": 7800.0,
+              "rho2": 29103.93322545357, "tau1": 0.0, "tau2": 19426.145775584057}
+    segments = [(pull, -12446.7), (8e-5, 3e4)]
+    stop = pull + 8e-5
+    model = build_model(Params(**params), GROW)
+    model.advance_to(-12446.7, pull)
+    pulled = model.outputs()
+    assert pulled.u_pipe - pulled.u_plug < -5e-8 and pulled.L2_now < 1.0
+    model.advance_to(3e4, stop)
+    out = model.outputs()
+    assert out.L2_now == 1.0
+    assert abs(out.u_pipe - out.u_plug) <= 16.0 * math.ulp(out.u_pipe)
+    ref = simulate_growth(params, segments, np.array([pull, stop]))
+    assert ref["L2_now"][-1] == 1.0
+    v_bound = (12446.7 * pull + 3e4 * 8e-5) / Params(**params).M1
+    assert abs(ref["u_pipe"][-1] - ref["u_plug"][-1]) <= 4.0 * np.finfo(float).eps * v_bound
+    assert any("plug fills the pipe" in text for _, text in ref["events"])
