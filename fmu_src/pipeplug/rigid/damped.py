@@ -126,6 +126,13 @@ class RigidDamped(ModelBase):
             p1, p2, p3, g2, g3 = _sign(x1), 0, 0, 0.0, 0.0
         s1, s2 = e1 or p1, e2 or p2
         s3 = e3 or (p3 if s2 != 0 else s1) if self.coupled else 0
+        if s2 != 0 and s1 == 0 and s3 == 0:
+            # Both bodies held: their contact has no sliding speed and cannot slide, whatever
+            # an event's kick asked (its friction stays at the limit it reached, a static
+            # force). A load exactly at the pipe's window, Q = T1 + F2, otherwise set a plug
+            # breaking away from a pipe that then could not move, and back, without end (fuzz
+            # 2071:4481).
+            s2 = 0
         return (s1, s2, s3), (f1 + g1, f2 + g2, f3 + g3)
 
     def _build(self) -> None:

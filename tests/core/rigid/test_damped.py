@@ -245,3 +245,29 @@ def test_a_decayed_piece_never_gives_back_work():
     assert np.all(np.diff(work) >= 0.0) and np.all(np.diff(travel) <= 0.0)
     exact = 0.5 * m * v0 ** 2 * -np.expm1(-2 * c / m * t)
     assert np.max(np.abs(work - exact)) <= 1e-15 * exact[-1]
+
+
+def test_a_load_exactly_at_the_pipes_window_stops_pipe_and_plug_for_good():
+    # fuzz 2071:4481: a full plug held by its face (Qp > F2), pipe and plug driven back, then
+    # Q = T1 + F2 (the whole window of a pipe sliding forward over a held plug, to the last
+    # bit): they decelerate together, stop, and stay at rest. At the stop the plug's need
+    # reaches F2 (a breakaway ahead), but the pipe, its load at its window's edge, is held,
+    # and the plug by its face: neither moves, so their contact cannot slide. It was set
+    # sliding anyway, then the pair moved on together, and back, without end (more than
+    # 100,000 events at one instant). Modes and the motion from the reference.
+    r1, l1, tau1, tau2 = 0.035, 0.3497187137786887, 457022.5779824606, 1073779.5421750222
+    T1, F2 = 2 * math.pi * (r1 + 0.003) * l1 * tau1, 2 * math.pi * r1 * l1 * tau2
+    params = dict(L1=l1, L2=l1, R1=r1, rho2=6293.189231105356, tau1=tau1, tau2=tau2,
+                  q_plug_face=28427600.33598276, J_shaft=4.373523469178697)
+    segments = [(6.0e-3, -42799.88), (1.2e-3, T1 + F2)]
+    times = np.linspace(0.0, 7.2e-3, 361)[1:]
+    ref = simulate_damped(params, segments, times, False)
+    model = build_model(params)
+    out = model.sample(np.where(times <= 6.0e-3, -42799.88, T1 + F2), times)
+    rest = times > max(t for t, _ in ref["events"])
+    assert np.count_nonzero(rest) > 10 and model.modes()[-1] == (0, 0)
+    for name in ("v_pipe", "v_plug"):
+        assert np.all(out[name][rest] == 0.0) and np.all(ref[name][rest] == 0.0)
+    assert np.all(out["u_pipe"][rest] == out["u_pipe"][-1])
+    scale = np.max(np.abs(ref["v_pipe"]))
+    assert np.max(np.abs(out["v_pipe"] - ref["v_pipe"])) <= 1e-9 * scale
