@@ -412,7 +412,9 @@ def _simulate(params, segments, times, contact_growth, cleanouts, rtol, max_piec
             s = g.system(0.0 if y0[_L2] <= 0.0 else y0[_L2], merged)
             tight = atol.copy()
             if mode[1] > 0:         # a growing plug to a share of itself (from nothing: tiny)
-                tight[_L2] = rtol * y0[_L2] + 1e-300      # (it holds the change: below)
+                # (it holds the change: below); from nothing, 1e-30 L1 (scipy's first step
+                # divides the rates by it: 1e-300 overflowed there)
+                tight[_L2] = rtol * max(y0[_L2], 1e-30 * g.L1)
                 tight[_P] = 1e-3 * rtol * g.mu * max(y0[_L2], 1e-30 * g.L1) * vscale
             elif _shrinks(mode):
                 tight[_P] = atol[_V1]
