@@ -54,6 +54,7 @@ import math
 
 import numpy as np
 
+from ..contact.face import sign
 from ..jit import jitable
 from .cells import (
     F1,
@@ -86,7 +87,7 @@ from .kernels import (
     _scratch,
     start_step,
 )
-from .model import ElasticModel, _rod_energies, _sign
+from .model import ElasticModel, _rod_energies
 
 __all__ = ["GrowthModel", "run_growth", "LENGTH", "CELLS", "W_ACCRETION", "W_REMOVED"]
 
@@ -279,8 +280,8 @@ class GrowthModel(ElasticModel):
         plug_mode = 0
         if s is not None:
             j = self._plug()[1] + s.cell
-            plug_mode = _sign(self.v1[j] - self.v2[j])
-        return _sign(self.v1[self.grid.pipe.cell]), plug_mode
+            plug_mode = sign(self.v1[j] - self.v2[j])
+        return sign(self.v1[self.grid.pipe.cell]), plug_mode
 
     def _plug_energies(self) -> tuple[float, float]:
         d, j0 = self._plug()

@@ -57,6 +57,7 @@ import math
 import numpy as np
 
 from .. import jit
+from ..contact.face import sign
 from ..interface import ModelBase, Outputs, profile_sections
 from ..params import ParameterError
 from .cells import node_forces
@@ -345,8 +346,8 @@ class ElasticModel(ModelBase):
         plug_mode = 0
         if g.n2:
             k = g.plug.cell
-            plug_mode = _sign(self.v1[g.n1 - g.n2 + k] - self.v2[k])
-        return _sign(self.v1[g.pipe.cell]), plug_mode
+            plug_mode = sign(self.v1[g.n1 - g.n2 + k] - self.v2[k])
+        return sign(self.v1[g.pipe.cell]), plug_mode
 
     def modes(self) -> tuple[tuple[int, int], ...]:
         """The modes at x_monitor after every communication step, repeats merged."""
@@ -484,12 +485,6 @@ def _tracked(u: np.ndarray, first: int, section: Section) -> float:
     its three cells' from index ``first`` on."""
     wa, wb, wc = section.weights
     return wa * u[first] + wb * u[first + 1] + wc * u[first + 2]
-
-
-def _sign(value: float) -> int:
-    """-1, 0 or 1."""
-    value = float(value)
-    return int(value > 0.0) - int(value < 0.0)
 
 
 def _rod_energies(v: np.ndarray, N: np.ndarray, m: float, k: float, h: float) -> tuple:

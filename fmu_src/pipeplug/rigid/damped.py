@@ -41,7 +41,7 @@ import math
 import numpy as np
 
 from ..contact.coulomb import SLACK
-from ..contact.face import face_contacts, one_sided, sliding_pair
+from ..contact.face import face_contacts, one_sided, sign, sliding_pair
 from ..interface import ModelBase, Outputs
 from .linear import LinearPiece
 from .stress import axial_extremes
@@ -58,10 +58,6 @@ _KICKS = ((PIPE_FWD, 0, 1), (PIPE_BACK, 0, -1), (BREAK_POS, 1, 1), (BREAK_NEG, 1
           (FACE_FWD, 2, 1), (FACE_BACK, 2, -1))
 _STATE_KEYS = ("time", "t0", "q", "U1", "V1", "U2", "V2", "W_in", "W_outer", "W_inner",
                "W_face", "W_damp", "s1", "s2", "s3", "f1s", "f2s", "f3s")
-
-
-def _sign(x: float) -> int:
-    return (x > 0.0) - (x < 0.0)
 
 
 class RigidDamped(ModelBase):
@@ -97,9 +93,9 @@ class RigidDamped(ModelBase):
     def _decide(self, q, v1, v2, kicks) -> tuple:
         """The modes ``(s1, s2, s3)`` from velocities ``v1``, ``v2`` [m/s] under ``q`` [N] and
         the static forces of the stuck contacts (soil on pipe, plug on pipe, soil on plug)."""
-        e1 = _sign(v1) or kicks[0]
-        e2 = (_sign(v1 - v2) or kicks[1]) if self.coupled else 0
-        e3 = (_sign(v2) or kicks[2]) if self.coupled else 0
+        e1 = sign(v1) or kicks[0]
+        e2 = (sign(v1 - v2) or kicks[1]) if self.coupled else 0
+        e3 = (sign(v2) or kicks[2]) if self.coupled else 0
         c1p, c1m = self.T1 + self.Qf, self.T1
         f1 = f2 = f3 = 0.0                # the sliding contacts' forces, dampers included
         if e1 > 0:
@@ -123,7 +119,7 @@ class RigidDamped(ModelBase):
         else:
             cp, cm = (0.0, 0.0) if e1 else (c1p, c1m)
             x1, g1 = one_sided(self.M1, w1, cp, cm, SLACK * (abs(self.M1 * w1) + cp + cm))
-            p1, p2, p3, g2, g3 = _sign(x1), 0, 0, 0.0, 0.0
+            p1, p2, p3, g2, g3 = sign(x1), 0, 0, 0.0, 0.0
         s1, s2 = e1 or p1, e2 or p2
         s3 = e3 or (p3 if s2 != 0 else s1) if self.coupled else 0
         if s2 != 0 and s1 == 0 and s3 == 0:
