@@ -149,3 +149,31 @@ def test_a_plugged_pipes_plug_breaks_away_ahead_where_its_friction_ends():
                                                               breaks[0]), True)
     assert at_break["u_pipe"][-1] == pytest.approx(u_b, rel=1e-12)
     assert np.all(out["L2_now"] <= 1.0) and np.all(out["W_accretion"] >= 0.0)
+
+
+def test_a_plug_stopping_ahead_of_a_held_pipe_books_the_soil_it_sheds():
+    # fuzz 4091:3320 (model II): after the pipe stops, the plug slides on ahead at V2' = -k/mu
+    # (no face resistance) and sticks where V2 = 0. The soil it sheds leaves with its
+    # velocity: W_accretion' = mu V2^3/2, so from any t_a in that piece, where V2 = v_a,
+    # W_accretion grows by mu v_a^4/(8 k/mu) until the stick, at t_a + v_a mu/k. The accretion
+    # rate written with |V1 - V2| has a kink at the stick, and the last step's dense output,
+    # on which the stick is found, was 13 times that off (7e-3 J against 5.9e-4 J).
+    params = dict(L1=1.0, L2=0.0, R1=0.035, h1=0.003, rho1=7800.0, rho2=1800.0,
+                  tau1=158250.8680974062, tau2=163715.96432152102, L2_after_cleanout=0.8)
+    segments = [(0.0005619137708489526, 47197.37918852264),
+                (0.00019218692575400265, -20469.71183983107),
+                (0.1409240986952473, 37784.14211256542),
+                (0.0017459515727168713, -21345.07131669808),
+                (0.06891714128761589, -37784.14211256542)]
+    kappa = 2.0 * 163715.96432152102 / (1800.0 * 0.035)
+    mu = 1800.0 * math.pi * 0.035 ** 2
+    events = simulate_growth(params, segments, [0.2], True)["events"]
+    stop = [t for t, text in events if "pipe stops" in text][-1]
+    stick = [t for t, text in events if "plug sticks" in text and t > stop][0]
+    t_a = stop + 0.9 * (stick - stop)
+    out = simulate_growth(params, segments, [t_a, stick + 1e-4], True)
+    v_a = out["v_plug"][0]
+    assert out["v_pipe"][0] == 0.0 and v_a > 1.0
+    assert stick == pytest.approx(t_a + v_a / kappa, rel=1e-12)
+    gained = out["W_accretion"][1] - out["W_accretion"][0]
+    assert gained == pytest.approx(mu * v_a ** 4 / (8.0 * kappa), rel=1e-9)
