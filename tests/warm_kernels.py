@@ -34,6 +34,8 @@ def run_every_kind(core) -> None:
     # Smith damping's kernel: the damping tests, the fuzz's Dask workers and its FMU cases
     # (seeds 201:0 and 202:125) would each compile it
     steps({"tau1": 2e4, "L2": 1.0, "dx": 0.05, "J_shaft": 0.5}, {"elastic": True})
+    steps({"tau1": 2e4, "L2": 0.0, "dx": 0.05, "J_shaft": 0.5},
+          {"elastic": True, "plug_growth": True})
     importlib.import_module(core.__name__ + ".batch").blows({"tau1": 2e4})
 
 

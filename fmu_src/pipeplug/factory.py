@@ -166,17 +166,19 @@ def _check_face(params: Params, options: Options) -> None:
 
 
 def _check_damping(params: Params, options: Options) -> None:
-    """Refuse Smith damping where a model does not carry it: with a growing plug (neither
-    solver of it carries damping), with a ram in the rigid models, and in model II's exact
-    solver (the shaft's damping force J_shaft P1 tau1 U1 U1' is not linear: no closed-form
-    pieces; the fd scheme carries it). The elastic model carries it with every other effect."""
+    """Refuse Smith damping where a model does not carry it: with a growing plug in the rigid
+    models (their growing plug's solver carries no damping), with a ram in the rigid models,
+    and in model II's exact solver (the shaft's damping force J_shaft P1 tau1 U1 U1' is not
+    linear: no closed-form pieces; the fd scheme carries it). The elastic model carries it
+    with every other effect."""
+    if options.elastic:
+        return
     name = "J_shaft" if params.J_shaft > 0.0 else "J_face"
     value = getattr(params, name)
     if options.plug_growth:
-        raise ParameterError(name, value, "0 with plug_growth (the growing plug's solvers, "
-                             "rigid and elastic, carry no damping)")
-    if options.elastic:
-        return
+        raise ParameterError(name, value, "0 with plug_growth in the rigid models (their "
+                             "growing plug's solver carries no damping; the elastic model "
+                             "carries both)")
     if params.has_ram:
         raise ParameterError(name, value, "0 with a ram (ram_mass > 0) in the rigid models "
                              "(the elastic model carries both)")

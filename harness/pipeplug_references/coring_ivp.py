@@ -7,8 +7,11 @@ rest joins the plug at the pipe's front end, so the length grows at the relative
 the plug's momentum changes by the friction alone (the soil that joins brings none)::
 
     dL/dt  = v1 - v2                  (while v1 > v2)
-    dp/dt  = tau2 P2 L                p = m v2, the plug's momentum
-    M1 dv1/dt = Q(t) - tau2 P2 L
+    dp/dt  = tau2 P2 L (1 + J (v1 - v2))          p = m v2, the plug's momentum
+    M1 dv1/dt = Q(t) - tau2 P2 L (1 + J (v1 - v2))
+
+``J`` = ``J_shaft`` [s/m] is Smith's damping of the sliding friction (0 by default): its
+damper dissipates ``integral of tau2 P2 L J (v1 - v2)^2 dt``.
 
 When the plug reaches the pipe's velocity the two stick and move on together (no relative
 advance: no more soil enters; under Q = 0 at a constant velocity). Momentum is conserved:
@@ -33,37 +36,41 @@ def simulate_coring(p: dict, force: float, duration: float, times) -> dict:
     Parameters
     ----------
     p : dict
-        L1, L2 (the starting length) [m], R1, h1 [m], rho1, rho2 [kg/m3], tau2 [Pa].
+        L1, L2 (the starting length) [m], R1, h1 [m], rho1, rho2 [kg/m3], tau2 [Pa],
+        optionally J_shaft [s/m].
 
     Returns
     -------
     dict of arrays
         ``v_pipe``, ``v_plug`` [m/s], ``u_pipe`` [m], ``L2_now`` [m], ``W_accretion``,
-        ``W_friction_inner``, ``W_input`` [J].
+        ``W_friction_inner`` (the Coulomb part), ``W_damping``, ``W_input`` [J].
     """
     S1 = math.pi * ((p["R1"] + p["h1"]) ** 2 - p["R1"] ** 2)
     S2 = math.pi * p["R1"] ** 2
     M1, rho_s = p["rho1"] * S1 * p["L1"], p["rho2"] * S2
     grip = 2.0 * math.pi * p["R1"] * p["tau2"]          # tau2 P2, friction per metre [N/m]
+    damping = float(p.get("J_shaft", 0.0))
     times = np.asarray(times, dtype=float)
 
     def plug_velocity(L, mom):
         return mom / (rho_s * L) if L > 0.0 else 0.0
 
     def rates(t, y):
-        u1, v1, L, mom, w_acc, w_fr, w_in = y
+        u1, v1, L, mom, w_acc, w_fr, w_in, w_damp = y
         q = force if t < duration else 0.0
         v2 = plug_velocity(L, mom)
         slip = max(v1 - v2, 0.0)
         f = grip * L if v1 > v2 else 0.0
-        return [v1, (q - f) / M1, slip, f, 0.5 * rho_s * slip * v2 * v2, f * slip, q * v1]
+        g = f * damping * slip                          # the damper's force
+        return [v1, (q - f - g) / M1, slip, f + g, 0.5 * rho_s * slip * v2 * v2, f * slip,
+                q * v1, g * slip]
 
     def stuck(t, y):
         return y[1] - plug_velocity(y[2], y[3]) if t > 0.0 else 1.0
     stuck.terminal, stuck.direction = True, -1
 
-    y0 = [0.0, 0.0, p["L2"], 0.0, 0.0, 0.0, 0.0]
-    out = np.empty((7, times.size))
+    y0 = [0.0, 0.0, p["L2"], 0.0, 0.0, 0.0, 0.0, 0.0]
+    out = np.empty((8, times.size))
     y = np.array(y0)
     pieces = [(0.0, duration), (duration, float(times[-1]))]
     for start, end in pieces:
@@ -83,7 +90,7 @@ def simulate_coring(p: dict, force: float, duration: float, times) -> dict:
                                       y[2] + 0 * times[after], rho_s * y[2] * v
                                       + 0 * times[after], *(y[4:, None] + 0 * times[after])])
             break
-    u1, v1, L, mom, w_acc, w_fr, w_in = out
+    u1, v1, L, mom, w_acc, w_fr, w_in, w_damp = out
     v2 = np.where(L > 0.0, mom / (rho_s * np.where(L > 0.0, L, 1.0)), 0.0)
     return {"u_pipe": u1, "v_pipe": v1, "v_plug": v2, "L2_now": L, "W_accretion": w_acc,
-            "W_friction_inner": w_fr, "W_input": w_in}
+            "W_friction_inner": w_fr, "W_input": w_in, "W_damping": w_damp}

@@ -85,12 +85,19 @@ from .kernels import (
     start_step,
 )
 
-__all__ = ["run_damped", "damped_pair", "G1", "G2"]
+__all__ = ["run_damped", "damped_pair", "damped_scratch", "G1", "G2"]
 
 # Scratch rows beyond those of pipeplug.elastic.cells: the damper's share [1] of the soil's (G1)
 # and the plug's (G2) whole impulse on the cell, which a limited step keeps (it scales both).
 G1, G2 = SCRATCH_ROWS, SCRATCH_ROWS + 1
 _ROWS = SCRATCH_ROWS + 2
+
+
+@jitable
+def damped_scratch(v1):
+    """The scratch of a damped kernel call: the rows of :mod:`pipeplug.elastic.cells` and the
+    dampers' shares, a column per pipe cell."""
+    return np.zeros((_ROWS, v1.shape[0]))
 
 
 @jitable
@@ -328,7 +335,7 @@ def run_damped(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
     js = coef[JS]
     soil = coef[C1] > 0.0
     growth = coef[GROWTH] > 0.0
-    s = np.zeros((_ROWS, n1))
+    s = damped_scratch(v1)
     last_both = front
     for _ in range(n):
         start = soil_start(u1[0], n1, coef[DX]) if growth else 0.0

@@ -70,6 +70,14 @@ from .cells import (
     sums,
 )
 from .cleanout import cut_rear
+from .damped import (
+    book_damped_step,
+    damped_front_cell,
+    damped_plug_cells,
+    damped_plug_soil_cells,
+    damped_scratch,
+    damped_soil_cells,
+)
 from .face import book_step_friction, front_cell
 from .grid import _section, build_grid
 from .kernels import (
@@ -79,6 +87,7 @@ from .kernels import (
     F_IN,
     F_OUT,
     GROWTH,
+    JS,
     K2,
     M1,
     M2,
@@ -89,7 +98,7 @@ from .kernels import (
 )
 from .model import ElasticModel, _rod_energies
 
-__all__ = ["GrowthModel", "run_growth", "LENGTH", "CELLS", "W_ACCRETION", "W_REMOVED"]
+__all__ = ["GrowthModel", "run_growth", "run_damped_growth", "LENGTH", "CELLS", "W_ACCRETION", "W_REMOVED"]
 
 # acc beyond the elastic model's: the plug's length [m], its cells d, W_accretion [J] and its
 # rounding error, W_removed [J] and its rounding error.
@@ -167,6 +176,32 @@ def split(v2, N2, u2, acc, dx):
 
 
 @jitable
+def plug_front(acc, coef, own, n1):
+    """The plug now: ``(d, j0)``, its cells and its first pipe cell; ``own`` gets the front
+    pair's plug mass and friction limit (its share of a cell, :func:`front_share`)."""
+    d = int(acc[CELLS])
+    if d > 0:
+        share = front_share(acc[LENGTH], d, coef[DX])
+        own[M2] = coef[M2] * share
+        own[C2] = coef[C2] * share
+    return d, n1 - d
+
+
+@jitable
+def end_growth_step(q, dt, v_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc, j0, r2,
+                    w2, coupled):
+    """After a step's projection: soil enters (:func:`accrete`; ``r2``, ``w2`` [m/s] the front
+    plug cell's velocity before the step and after its kick), the step's fields and
+    displacements are finished, and a front cell of two cells' worth splits."""
+    n1 = v1.shape[0]
+    accrete(v1, v2, acc, coef, dt, r2, w2, coupled)
+    _finish_step(q, dt, v_old, v1, N1, v2[j0:], N2[j0:], coef, cells1, u1, cells2, u2, acc, n1)
+    for k in range(j0, n1):
+        u2[k] += dt * v2[k]
+    split(v2, N2, u2, acc, coef[DX])
+
+
+@jitable
 def run_growth(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
     """Pipe and a growing plug (soil friction, contact growth, end resistance, ram: as
     ``coef`` has them): every cell at every step. ``v2``, ``N2``, ``u2`` hold a pipe's length
@@ -184,14 +219,9 @@ def run_growth(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
     own = coef.copy()                 # the front pair's: its plug cell's mass and limit
     j0 = last_both = n1
     for _ in range(n):
-        d = int(acc[CELLS])
-        j0 = n1 - d
+        d, j0 = plug_front(acc, coef, own, n1)
         pv = v2[j0:]
         pN = N2[j0:]
-        if d > 0:
-            share = front_share(acc[LENGTH], d, coef[DX])
-            own[M2] = coef[M2] * share
-            own[C2] = coef[C2] * share
         start = soil_start(u1[0], n1, coef[DX]) if growth else 0.0
         on = 1.0 if (not growth or u1[0] >= 0.0) else 0.0
         v_old = v1[0]
@@ -210,11 +240,58 @@ def run_growth(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
         r2 = v2[front]
         front_cell(v1, N1, pv, pN, dt, own, c1 * soil_weight(front, start), on, s, acc)
         book_step_friction(v1, pv, j0, s, alone, both, front, n1, soil, acc)
-        accrete(v1, v2, acc, coef, dt, r2, s[W2, front] if d > 0 else 0.0, coupled)
-        _finish_step(q, dt, v_old, v1, N1, pv, pN, coef, cells1, u1, cells2, u2, acc, n1)
-        for k in range(j0, n1):
-            u2[k] += dt * v2[k]
-        split(v2, N2, u2, acc, coef[DX])
+        end_growth_step(q, dt, v_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc, j0,
+                        r2, s[W2, front] if d > 0 else 0.0, coupled)
+        last_both = both
+    acc[F_OUT] = (sums(s, F1, 0, min(j0, front)) + sums(s, F1, last_both, n1)) / dt \
+        if soil else 0.0
+    acc[F_IN] = sums(s, F2, j0, n1) / dt
+
+
+@jitable
+def run_damped_growth(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
+    """:func:`run_growth` with Smith damping: the cells take their damped contacts
+    (:mod:`pipeplug.elastic.damped`), the step's works are booked with the dampers' parts,
+    and soil enters as without damping (its momentum and W_accretion from the front plug
+    cell's velocities, whatever impulses the projection gave it)."""
+    start_step(q, N1, coef, acc)
+    n1 = v1.shape[0]
+    front = n1 - 1
+    a1 = dt / coef[M1]
+    a2 = dt / coef[M2] if coef[M2] > 0.0 else 0.0
+    c1 = dt * coef[C1]
+    c2 = dt * coef[C2]
+    js = coef[JS]
+    soil = coef[C1] > 0.0
+    growth = coef[GROWTH] > 0.0
+    coupled = coef[C2] > 0.0
+    s = damped_scratch(v1)
+    own = coef.copy()                 # the front pair's: its plug cell's mass and limit
+    j0 = last_both = n1
+    for _ in range(n):
+        d, j0 = plug_front(acc, coef, own, n1)
+        pv = v2[j0:]
+        pN = N2[j0:]
+        start = soil_start(u1[0], n1, coef[DX]) if growth else 0.0
+        on = 1.0 if (not growth or u1[0] >= 0.0) else 0.0
+        v_old = v1[0]
+        alone = min(j0, front)
+        if soil:
+            damped_soil_cells(v1, N1, 0, alone, a1, coef[M1], c1, js, start, s)
+        else:
+            free_cells(v1, N1, 0, alone, a1)
+        both = front
+        if d > 1 and soil:
+            both = j0 + damped_plug_soil_cells(v1, N1, pv, pN, j0, front, a1, a2, coef[M1],
+                                               coef[M2], c1, c2, js, start, s)
+        elif d > 1:
+            damped_plug_cells(v1, N1, pv, pN, j0, 0, d - 1, a1, a2, coef[M1], coef[M2], c2,
+                              js * c2, s)
+        r2 = v2[front]
+        damped_front_cell(v1, N1, pv, pN, dt, own, c1 * soil_weight(front, start), on, s, acc)
+        book_damped_step(v1, pv, j0, s, alone, both, front, n1, soil, acc)
+        end_growth_step(q, dt, v_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc, j0,
+                        r2, s[W2, front] if d > 0 else 0.0, coupled)
         last_both = both
     acc[F_OUT] = (sums(s, F1, 0, min(j0, front)) + sums(s, F1, last_both, n1)) / dt \
         if soil else 0.0
@@ -234,8 +311,9 @@ class GrowthModel(ElasticModel):
     def _choose_kernel(self, options, vectorised: bool):
         from .. import jit
         self.grid.coef[GROWTH] = float(options.contact_growth)
-        self.kernel_name = run_growth.__name__
-        return run_growth if vectorised else jit.compiled(run_growth)
+        kernel = run_damped_growth if self.params.has_damping else run_growth
+        self.kernel_name = kernel.__name__
+        return kernel if vectorised else jit.compiled(kernel)
 
     def __init__(self, params, options, vectorised: bool | None = None,
                  profile_points: int = 0):

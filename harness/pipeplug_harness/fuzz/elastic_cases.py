@@ -30,8 +30,8 @@ it is run on. Domains drawn (SI units):
   ``L2_after_cleanout`` anywhere in [0, L1] (a whole number of cells for half of the cases)
   and a clean-out at the start of each blow with probability 0.3 (none for a case marked for
   the FMU, which carries no such input yet);
-* Smith damping (a stream of its own, ``spawn_key=(index, 7)``; none for the free rods and the
-  plugs that grow, which the model refuses it with): half of the other cases draw ``J_shaft``,
+* Smith damping (a stream of its own, ``spawn_key=(index, 7)``; none for the free rods): half
+  of the other cases, plugs that grow included, draw ``J_shaft``,
   ``J_face`` as the rigid cases draw them (:func:`.cases._damping`: each 0, 0.01-1 s/m or, one
   draw in ten, 1-100 s/m; never both 0); cases without damping have no ``J_*`` (they stay the
   cases of before).
@@ -130,7 +130,7 @@ def generate_elastic(seed: int, index: int, plan: Plan = _PLAN) -> ElasticCase:
     params.update(_ram(ram, params, h))
     face = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index, 5)))
     params.update(_faces(face, params))
-    if not (plug_growth or _free(params)):
+    if not _free(params):
         params.update(_damping(np.random.default_rng(
             np.random.SeedSequence(seed, spawn_key=(index, 7))), _DAMPED_SHARE))
     edges, loads, stop = _blows(rng, params, h)

@@ -42,7 +42,8 @@ def _blows(model, force, blows=3, on=40, off=200, cleanout_at=()):
 
 def _allowance(rows, steps):
     largest = max(max(abs(getattr(o, n)) for n in ("W_input", "W_ram", "W_friction",
-                                                     "W_accretion", "W_removed", "W_face"))
+                                                     "W_accretion", "W_removed", "W_face",
+                                                     "W_damping"))
                   for o in rows)
     return (1e-12 + 2.2e-16 * steps) * largest
 
@@ -63,6 +64,7 @@ def test_the_defaults_build_the_model_of_before():
     dict(L2=0.0),                                              # from an empty pipe
     dict(L2=0.5, tau1=2e4, q_face=2e6, q_plug_face=3e5),       # soil, both faces
     dict(L2=0.25, tau1=1e4, ram_mass=300.0),                   # a ram at the head
+    dict(L2=0.0, tau1=1e4, q_face=2e6, q_plug_face=3e5, J_shaft=0.5, J_face=0.3),  # damped
 ])
 def test_ledger_closes_and_the_works_never_decrease(changes):
     model = _model(**changes)
@@ -73,9 +75,10 @@ def test_ledger_closes_and_the_works_never_decrease(changes):
     steps = len(rows)
     worst = max(abs(ledger_residual(o)) for o in rows)
     assert worst <= _allowance(rows, steps)
-    for name in ("W_accretion", "W_friction", "W_face"):
+    for name in ("W_accretion", "W_friction", "W_face", "W_damping"):
         values = np.array([getattr(o, name) for o in rows])
         assert np.all(np.diff(values) >= 0.0), name
+    assert (rows[-1].W_damping > 0.0) == ("J_shaft" in changes)
     assert all(o.E_kinetic >= 0.0 and o.E_strain >= 0.0 for o in rows)
     lengths = np.array([o.L2_now for o in rows])
     assert lengths.max() > changes["L2"] + 0.02       # it grew by coring
@@ -83,10 +86,11 @@ def test_ledger_closes_and_the_works_never_decrease(changes):
         assert rows[-1].W_accretion > 0.0
 
 
-def test_the_path_without_numba_gives_the_same_bits():
+@pytest.mark.parametrize("damping", [{}, dict(J_shaft=0.5, J_face=0.3, q_face=2e6)])
+def test_the_path_without_numba_gives_the_same_bits(damping):
     runs = []
     for vectorised in (False, True):
-        model = _model(vectorised, L2=0.0, tau1=1e4, q_plug_face=2e5)
+        model = _model(vectorised, L2=0.0, tau1=1e4, q_plug_face=2e5, **damping)
         runs.append(np.array(_blows(model, 4e5, blows=2, on=20, off=60, cleanout_at=(1,)),
                              dtype=float))
     assert runs[0].tobytes() == runs[1].tobytes()
@@ -161,15 +165,19 @@ def test_cleanouts_refused_without_a_plug_that_grows():
         _model(options={"elastic": True}, L2=0.5).clean_out()
 
 
-@pytest.fixture(scope="module")
-def coring_errors():
-    """The coring reference (rigid pipe and plug, soil at rest joining) against model III
-    on 16, 32 and 64 cells, the rods' stiffness growing as 1/dx^2 so that their elastic
-    difference to rigid bodies shrinks with dx too."""
-    base = dict(PIPE, L2=0.5, x_monitor=0.0)
+@pytest.fixture(scope="module", params=[0.0, 0.5], ids=["undamped", "J_shaft=0.5"])
+def coring_errors(request):
+    """The coring reference (rigid pipe and plug, soil at rest joining; with Smith damping of
+    the plug's friction at ``J_shaft``) against model III on 16, 32 and 64 cells, the rods'
+    stiffness growing as 1/dx^2 so that their elastic difference to rigid bodies shrinks with
+    dx too. Returns the errors and the names compared."""
+    base = dict(PIPE, L2=0.5, x_monitor=0.0, J_shaft=request.param)
+    names = ("L2_now", "W_accretion", "u_pipe") + (("W_damping",) if request.param else ())
     force, duration, stop = 2e5, 4e-3, 0.012
     times = np.linspace(0.001, stop, 12)
     ref = simulate_coring(base, force, duration, times)
+    if request.param:
+        assert ref["W_damping"][-1] > 0.05 * ref["W_input"][-1]   # the damper matters
     errors = []
     for n1 in (16, 32, 64):
         E1 = 2e11 * (n1 / 8) ** 2
@@ -178,15 +186,16 @@ def coring_errors():
         end = round(duration / h) * h
         model.advance_to(force, end)
         later = times > end
-        out = model.sample(0.0, times[later], names=("L2_now", "W_accretion", "u_pipe"))
+        out = model.sample(0.0, times[later], names=names)
         errors.append([float(np.max(np.abs(out[k] - ref[k][later])) / np.max(np.abs(ref[k])))
-                       for k in out])
-    return np.array(errors)
+                       for k in names])
+    return np.array(errors), names
 
 
 def test_coring_approaches_the_variable_mass_reference_at_first_order(coring_errors):
+    errors, names = coring_errors
     dx = np.array([1.0, 0.5, 0.25])
-    for column, name in enumerate(("L2_now", "W_accretion", "u_pipe")):
-        order = np.polyfit(np.log(dx), np.log(coring_errors[:, column]), 1)[0]
-        assert order > 0.8, (name, order, coring_errors[:, column])
-    assert coring_errors[-1, 0] < 2e-4 and coring_errors[-1, 1] < 2e-2
+    for column, name in enumerate(names):
+        order = np.polyfit(np.log(dx), np.log(errors[:, column]), 1)[0]
+        assert order > 0.8, (name, order, errors[:, column])
+    assert errors[-1, 0] < 2e-4 and errors[-1, 1] < 2e-2

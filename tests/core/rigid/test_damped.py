@@ -147,8 +147,7 @@ def test_without_damping_the_models_are_those_of_before():
 @pytest.mark.parametrize("params, options, words", [
     ({"tau1": 2e4, "J_shaft": 0.5}, {"contact_growth": True}, "contact_growth"),
     ({"tau1": 2e4, "J_shaft": 0.5, "ram_mass": 100.0}, {}, "ram"),
-    ({"tau1": 2e4, "J_shaft": 0.5, "L2": 0.5}, {"elastic": True, "plug_growth": True},
-     "plug_growth"),
+    ({"tau1": 2e4, "J_shaft": 0.5, "L2": 0.5}, {"plug_growth": True}, "plug_growth"),
     ({"tau1": 2e4, "J_shaft": 2e3}, {}, "<= 1000"),
 ])
 def test_refusals_name_the_parameter_and_the_combination(params, options, words):
@@ -156,6 +155,12 @@ def test_refusals_name_the_parameter_and_the_combination(params, options, words)
         build_model(dict(params, L1=1.0, dx=0.01), options)
     assert refusal.value.name in ("J_shaft", "J_face")
     assert words in str(refusal.value)
+
+
+def test_the_elastic_model_carries_damping_with_a_growing_plug():
+    model = build_model({"tau1": 2e4, "J_shaft": 0.5, "L2": 0.5, "L1": 1.0, "dx": 0.05},
+                        {"elastic": True, "plug_growth": True})
+    assert model.kernel_name == "run_damped_growth"
 
 
 def test_a_pipe_held_exactly_at_its_limit_under_a_sliding_plug_stays_held():

@@ -199,7 +199,7 @@ def test_the_fuzz_draws_damping_and_finds_damping_that_is_not_booked(monkeypatch
     plan = Plan(reference=0, fmu=0, fd=0, model="elastic")
     cases = [generate_elastic(9, i, plan) for i in range(60)]
     damped = [c for c in cases if "J_shaft" in c.params]
-    assert 12 <= len(damped) <= 30 and all(not c.plug_growth for c in damped)
+    assert 15 <= len(damped) <= 40 and any(c.plug_growth for c in damped)
     assert all(c.model.endswith(" damped") for c in damped)
     monkeypatch.setitem(ELASTIC_PATHS, "compiled", _undamped_ledger)
     summary, _ = fuzz(9, [56, 28, 32], plan, Setup(), progress=None)    # the cheapest
