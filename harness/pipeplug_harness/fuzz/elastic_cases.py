@@ -29,7 +29,7 @@ it is run on. Domains drawn (SI units):
   ``plug_growth`` for 30 % of the cases, the plug starting empty for a third of them, with
   ``L2_after_cleanout`` anywhere in [0, L1] (a whole number of cells for half of the cases)
   and a clean-out at the start of each blow with probability 0.3 (none for a case marked for
-  the FMU, which carries no such input yet);
+  the FMU: the fuzz's FMU host drives no clean-outs);
 * Smith damping (a stream of its own, ``spawn_key=(index, 7)``; none for the free rods): half
   of the other cases, plugs that grow included, draw ``J_shaft``,
   ``J_face`` as the rigid cases draw them (:func:`.cases._damping`: each 0, 0.01-1 s/m or, one
