@@ -5,6 +5,7 @@ import json
 import math
 
 import numpy as np
+import pytest
 
 from pipeplug import OUTPUT_NAMES
 from pipeplug_harness.fuzz.cases import (
@@ -21,6 +22,7 @@ from pipeplug_harness.fuzz.cases import (
     loads_on,
 )
 from pipeplug_harness.fuzz.checks import CHECKS, Body, reference_errors
+from pipeplug_harness.fuzz.runners import COLUMN
 
 
 def test_a_case_depends_on_seed_and_index_only():
@@ -142,3 +144,24 @@ def test_static_forces_are_measured_on_the_load_they_balance():
     assert reference_errors(rows, ref, times, [], 0.01, load)["reference forces"] <= 1e-15
     rows[:, inner] = -1e-8 * load
     assert reference_errors(rows, ref, times, [], 0.01, load)["reference forces"] > tolerance
+
+
+def _mode_rows(v_pipe, pipe_mode):
+    rows = np.zeros((len(v_pipe), len(COLUMN)))
+    rows[:, COLUMN["v_pipe"]], rows[:, COLUMN["pipe_mode"]] = v_pipe, pipe_mode
+    return rows
+
+
+@pytest.mark.parametrize("v_pipe, pipe_mode, counted", [
+    (-1.2e-17, -1, 0),     # sliding on at the limit's round-off, stopped in the reference
+    (-1e-12, -1, 1),       # a motion above round-off (16 ulps of 0.5 m/s = 1.8e-15 m/s)
+    (0.0, -1, 1),          # the same speed, exactly: the label is wrong
+])
+def test_a_mode_label_counts_unless_it_is_that_of_a_round_off_speed(v_pipe, pipe_mode, counted):
+    times = np.array([0.1, 0.2, 0.3])
+    ref = {name: np.zeros(3) for name in OUTPUT_NAMES}
+    ref["v_pipe"][0] = 0.5                       # the velocity scale: 0.5 m/s
+    ref["pipe_mode"][0] = 1
+    rows = _mode_rows([0.5, v_pipe, v_pipe], [1, pipe_mode, pipe_mode])
+    errors = reference_errors(rows, ref, times, [(0.05, "load")], 0.3)
+    assert errors["reference modes"] == 2 * counted
