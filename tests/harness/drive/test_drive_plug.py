@@ -214,6 +214,19 @@ def test_the_casing_drives_with_a_growing_plug_load_as_their_comments_derive_the
     assert clean.hammer == plug.hammer and clean.target == plug.target
 
 
+def test_the_damped_casing_drive_is_the_growing_plug_drive_with_smiths_sand_values():
+    """Smith (1960), sand: J = 0.15 s/ft at the point, J' = 0.05 s/ft on the side, in s/m;
+    every other value that of casing_24in_17m_ram_plug.toml."""
+    plug = load_drive(DRIVES / "casing_24in_17m_ram_plug.toml")
+    damped = load_drive(DRIVES / "casing_24in_17m_ram_plug_damped.toml")
+    assert damped.start_values == {**plug.start_values,
+                                   "J_shaft": pytest.approx(0.05 / 0.3048, abs=5e-4),
+                                   "J_face": pytest.approx(0.15 / 0.3048, abs=5e-4)}
+    assert (damped.hammer, damped.target, damped.refusal_length, damped.yield_stress,
+            damped.cleanouts) == (plug.hammer, plug.target, plug.refusal_length,
+                                  plug.yield_stress, None)
+
+
 def test_the_plug_ratio_axis_is_logarithmic_only_over_more_than_a_decade():
     """A fixed plug's L2/s falls from 17 m / 0.3 m to 1 (log10 56.7 = 1.75 decades: a log
     axis); a growing plug's stays near 1 (0.98-1.003: a linear one); gaps do not count."""
