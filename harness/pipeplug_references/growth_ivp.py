@@ -149,10 +149,15 @@ def _events(g, s, q, mode, y0, merged, v_tol, l2_0):
         if r > 0:
             add(lambda y: y[_GAP], "plug fills the pipe")
         else:
-            # shorter than round-off of L1 it is gone (as at a decision): a plug held back by
-            # its face slows as qp/(mu L2) and would stop only some 1e-17 m before its end
-            # (DOP853 ran out of step size there, 4043:4590)
-            add(lambda y: (l2_0 - _EMPTY * g.L1) + y[_L2], "plug leaves the pipe")
+            # A plug held back by its face slows as qp/(mu L2) and would stop only some
+            # 1e-17 m before its end (DOP853 ran out of step size there, 4043:4590): shorter
+            # than round-off of L1 it is gone (as at a decision). Any other leaves at L2 = 0,
+            # where its displacement is kept: at 1e-10 L1 that was off by V2 times the time
+            # the rest takes to leave (2.2e-7 m, a plug leaving at 5e-3 m/s relative to its
+            # pipe and at -8 m/s: fuzz 4092:2590).
+            held_back = gg > 0 and g.qp > 0.0
+            rest = _EMPTY * g.L1 if held_back else 0.0
+            add(lambda y: (l2_0 - rest) + y[_L2], "plug leaves the pipe")
         if gg and g.qp > 0.0 and p:
             add(lambda y: gg * v2(y), "plug stops")
         if gg == 0:
