@@ -387,3 +387,24 @@ def test_a_plug_pulled_out_and_driven_back_fills_the_pipe_where_it_was_full(pull
     v_bound = (12446.7 * pull + 3e4 * 8e-5) / Params(**params).M1
     assert abs(ref["u_pipe"][-1] - ref["u_plug"][-1]) <= 4.0 * np.finfo(float).eps * v_bound
     assert any("plug fills the pipe" in text for _, text in ref["events"])
+
+
+def test_a_plug_leaving_a_retreating_pipe_books_no_energy_it_does_not_have():
+    # fuzz 4092:3357 (model II): a plug of 0.75 mm held by its face, the pipe pulled back past
+    # it: the plug leaves through the front end at 1.7e-5 m/s, its momentum and its length
+    # vanishing together. Its velocity was their quotient, 0/0 at the end: 2.8e-9 m of plug
+    # took a round-off velocity times 1e9 and booked 3.9e-6 J of W_accretion, 5.9e-10 of the
+    # run's works that nothing paid for. The ledger closes to 1e-12 of the largest work; the
+    # soil that leaves carries at most the plug's kinetic energy, 1e-9 J here.
+    params = dict(L1=1.0, L2=0.0, R1=0.035, h1=0.003, rho1=7800.0, rho2=1824224.1986855061,
+                  tau1=283934.4345842507, tau2=1649.1229664599634, q_face=51387508.36154684,
+                  q_plug_face=239510.03542195508)
+    model = build_model(Params(**params), {**GROW, "contact_growth": True})
+    model.advance_to(56595.512193202056, 0.00021712829032273967)
+    model.advance_to(67610.81784333705, 0.0004288264120283264)
+    model.advance_to(-54016.35519146867, 0.005227733438629849)
+    out = model.outputs()
+    assert out.L2_now == 0.0 and out.v_pipe < -10.0          # the plug has left
+    largest = max(out.W_input, out.E_kinetic, out.W_friction, out.W_face)
+    assert abs(ledger_residual(out)) <= 1e-12 * largest
+    assert 0.0 <= out.W_accretion <= 1e-9
