@@ -202,6 +202,34 @@ def end_growth_step(q, dt, v_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, 
 
 
 @jitable
+def step_constants(dt, coef):
+    """``(a1, a2, c1, soil, growth, coupled)`` of a growing plug's kernel call: the cells'
+    kicks per unit force [m/(N s)], the shaft's impulse limit per cell [N s], and whether soil
+    friction, contact growth and the plug's coupling act."""
+    a2 = dt / coef[M2] if coef[M2] > 0.0 else 0.0
+    return (dt / coef[M1], a2, dt * coef[C1], coef[C1] > 0.0, coef[GROWTH] > 0.0,
+            coef[C2] > 0.0)
+
+
+@jitable
+def soil_front(u1, n1, coef, growth):
+    """``(start, on)``: where the soil's contact starts along the pipe [cells] (model II), and
+    1.0 when the annulus meets the soil (the front end at U >= 0), else 0.0."""
+    if not growth:
+        return 0.0, 1.0
+    return soil_start(u1[0], n1, coef[DX]), 1.0 if u1[0] >= 0.0 else 0.0
+
+
+@jitable
+def store_forces(s, acc, j0, last_both, n1, dt, soil):
+    """F_outer and F_inner [N] of the call's last step from the scratch ``s``."""
+    front = n1 - 1
+    acc[F_OUT] = (sums(s, F1, 0, min(j0, front)) + sums(s, F1, last_both, n1)) / dt \
+        if soil else 0.0
+    acc[F_IN] = sums(s, F2, j0, n1) / dt
+
+
+@jitable
 def run_growth(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
     """Pipe and a growing plug (soil friction, contact growth, end resistance, ram: as
     ``coef`` has them): every cell at every step. ``v2``, ``N2``, ``u2`` hold a pipe's length
@@ -209,12 +237,7 @@ def run_growth(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
     start_step(q, N1, coef, acc)
     n1 = v1.shape[0]
     front = n1 - 1
-    a1 = dt / coef[M1]
-    a2 = dt / coef[M2] if coef[M2] > 0.0 else 0.0
-    c1 = dt * coef[C1]
-    soil = coef[C1] > 0.0
-    growth = coef[GROWTH] > 0.0
-    coupled = coef[C2] > 0.0
+    a1, a2, c1, soil, growth, coupled = step_constants(dt, coef)
     s = _scratch(v1)
     own = coef.copy()                 # the front pair's: its plug cell's mass and limit
     j0 = last_both = n1
@@ -222,8 +245,7 @@ def run_growth(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
         d, j0 = plug_front(acc, coef, own, n1)
         pv = v2[j0:]
         pN = N2[j0:]
-        start = soil_start(u1[0], n1, coef[DX]) if growth else 0.0
-        on = 1.0 if (not growth or u1[0] >= 0.0) else 0.0
+        start, on = soil_front(u1, n1, coef, growth)
         v_old = v1[0]
         alone = min(j0, front)
         if soil:
@@ -243,9 +265,7 @@ def run_growth(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
         end_growth_step(q, dt, v_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc, j0,
                         r2, s[W2, front] if d > 0 else 0.0, coupled)
         last_both = both
-    acc[F_OUT] = (sums(s, F1, 0, min(j0, front)) + sums(s, F1, last_both, n1)) / dt \
-        if soil else 0.0
-    acc[F_IN] = sums(s, F2, j0, n1) / dt
+    store_forces(s, acc, j0, last_both, n1, dt, soil)
 
 
 @jitable
@@ -257,14 +277,9 @@ def run_damped_growth(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, ac
     start_step(q, N1, coef, acc)
     n1 = v1.shape[0]
     front = n1 - 1
-    a1 = dt / coef[M1]
-    a2 = dt / coef[M2] if coef[M2] > 0.0 else 0.0
-    c1 = dt * coef[C1]
+    a1, a2, c1, soil, growth, coupled = step_constants(dt, coef)
     c2 = dt * coef[C2]
     js = coef[JS]
-    soil = coef[C1] > 0.0
-    growth = coef[GROWTH] > 0.0
-    coupled = coef[C2] > 0.0
     s = damped_scratch(v1)
     own = coef.copy()                 # the front pair's: its plug cell's mass and limit
     j0 = last_both = n1
@@ -272,8 +287,7 @@ def run_damped_growth(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, ac
         d, j0 = plug_front(acc, coef, own, n1)
         pv = v2[j0:]
         pN = N2[j0:]
-        start = soil_start(u1[0], n1, coef[DX]) if growth else 0.0
-        on = 1.0 if (not growth or u1[0] >= 0.0) else 0.0
+        start, on = soil_front(u1, n1, coef, growth)
         v_old = v1[0]
         alone = min(j0, front)
         if soil:
@@ -293,9 +307,7 @@ def run_damped_growth(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, ac
         end_growth_step(q, dt, v_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc, j0,
                         r2, s[W2, front] if d > 0 else 0.0, coupled)
         last_both = both
-    acc[F_OUT] = (sums(s, F1, 0, min(j0, front)) + sums(s, F1, last_both, n1)) / dt \
-        if soil else 0.0
-    acc[F_IN] = sums(s, F2, j0, n1) / dt
+    store_forces(s, acc, j0, last_both, n1, dt, soil)
 
 
 class GrowthModel(ElasticModel):
