@@ -178,3 +178,17 @@ def test_fuzz_runs_on_the_engine(client, tmp_path):
     assert there.cases == here.cases == 120 and there.failures == here.failures == 0
     assert {k: v[:3] for k, v in there.rows.items()} == {k: v[:3] for k, v in here.rows.items()}
     assert there.families == here.families and there.models == here.models
+
+
+def test_the_local_cluster_closes_its_workers_while_its_scheduler_runs():
+    """At the end of a campaign the workers go first: a worker whose heartbeat reaches a
+    scheduler already closed logs an ERROR with a traceback after a run that went well."""
+    from distributed import Client, LocalCluster
+
+    from pipeplug_harness.sweep.cluster import _close_workers
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True,
+                      dashboard_address=None) as cluster, Client(cluster) as c:
+        assert len(c.scheduler_info(n_workers=-1)["workers"]) == 1
+        _close_workers(cluster, c)
+        assert c.scheduler_info(n_workers=-1)["workers"] == {}
+        assert cluster.scheduler.status.name == "running"
