@@ -56,18 +56,13 @@ from .cells import (
     accumulate,
     free_cells,
     limit,
-    soil_start,
     soil_weight,
-    sums,
     window,
 )
-from .face import _both
+from .face import _both, soil_front, store_forces
 from .kernels import (
     C1,
     C2,
-    DX,
-    F_IN,
-    F_OUT,
     GROWTH,
     JF,
     JS,
@@ -338,8 +333,7 @@ def run_damped(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
     s = damped_scratch(v1)
     last_both = front
     for _ in range(n):
-        start = soil_start(u1[0], n1, coef[DX]) if growth else 0.0
-        on = 1.0 if (not growth or u1[0] >= 0.0) else 0.0
+        start, on = soil_front(u1, n1, coef, growth)
         v_old = v1[0]
         if soil:
             damped_soil_cells(v1, N1, 0, alone, a1, m1, c1, js, start, s)
@@ -356,5 +350,4 @@ def run_damped(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
         book_damped_step(v1, v2, j0, s, alone, both, front, n1, soil, acc)
         _finish_step(q, dt, v_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc, n1)
         last_both = both
-    acc[F_OUT] = (sums(s, F1, 0, alone) + sums(s, F1, last_both, n1)) / dt if soil else 0.0
-    acc[F_IN] = sums(s, F2, j0, n1) / dt
+    store_forces(s, acc, j0, last_both, n1, dt, soil)

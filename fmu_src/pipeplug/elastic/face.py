@@ -66,7 +66,7 @@ from .kernels import (
     start_step,
 )
 
-__all__ = ["run_face", "front_cell"]
+__all__ = ["run_face", "front_cell", "soil_front", "store_forces"]
 
 
 @jitable
@@ -151,6 +151,24 @@ def book_step_friction(v1, v2, j0, s, alone, both, front, n1, soil, acc):
 
 
 @jitable
+def soil_front(u1, n1, coef, growth):
+    """``(start, on)``: where the soil's contact starts along the pipe [cells] (model II), and
+    1.0 when the annulus meets the soil (the front end at U >= 0), else 0.0."""
+    if not growth:
+        return 0.0, 1.0
+    return soil_start(u1[0], n1, coef[DX]), 1.0 if u1[0] >= 0.0 else 0.0
+
+
+@jitable
+def store_forces(s, acc, j0, last_both, n1, dt, soil):
+    """F_outer and F_inner [N] of the call's last step from the scratch ``s``."""
+    front = n1 - 1
+    acc[F_OUT] = (sums(s, F1, 0, min(j0, front)) + sums(s, F1, last_both, n1)) / dt \
+        if soil else 0.0
+    acc[F_IN] = sums(s, F2, j0, n1) / dt
+
+
+@jitable
 def run_face(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
     """Pipe (and plug, soil friction, contact growth, ram: as ``coef`` has them) with end
     resistance: every cell at every step (module docstring)."""
@@ -167,8 +185,7 @@ def run_face(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
     s = _scratch(v1)
     last_both = front
     for _ in range(n):
-        start = soil_start(u1[0], n1, coef[DX]) if growth else 0.0
-        on = 1.0 if (not growth or u1[0] >= 0.0) else 0.0
+        start, on = soil_front(u1, n1, coef, growth)
         v_old = v1[0]
         if soil:
             soil_cells(v1, N1, 0, alone, a1, coef[M1], c1, start, s)
@@ -185,5 +202,4 @@ def run_face(n, dt, q, coef, v1, N1, v2, N2, cells1, u1, cells2, u2, acc):
         book_step_friction(v1, v2, j0, s, alone, both, front, n1, soil, acc)
         _finish_step(q, dt, v_old, v1, N1, v2, N2, coef, cells1, u1, cells2, u2, acc, n1)
         last_both = both
-    acc[F_OUT] = (sums(s, F1, 0, alone) + sums(s, F1, last_both, n1)) / dt if soil else 0.0
-    acc[F_IN] = sums(s, F2, j0, n1) / dt
+    store_forces(s, acc, j0, last_both, n1, dt, soil)

@@ -57,17 +57,13 @@ import numpy as np
 from ..contact.face import sign
 from ..jit import jitable
 from .cells import (
-    F1,
-    F2,
     W2,
     accumulate,
     free_cells,
     plug_cells,
     plug_soil_cells,
     soil_cells,
-    soil_start,
     soil_weight,
-    sums,
 )
 from .cleanout import cut_rear
 from .damped import (
@@ -78,14 +74,12 @@ from .damped import (
     damped_scratch,
     damped_soil_cells,
 )
-from .face import book_step_friction, front_cell
+from .face import book_step_friction, front_cell, soil_front, store_forces
 from .grid import _section, build_grid
 from .kernels import (
     C1,
     C2,
     DX,
-    F_IN,
-    F_OUT,
     GROWTH,
     JS,
     K2,
@@ -209,24 +203,6 @@ def step_constants(dt, coef):
     a2 = dt / coef[M2] if coef[M2] > 0.0 else 0.0
     return (dt / coef[M1], a2, dt * coef[C1], coef[C1] > 0.0, coef[GROWTH] > 0.0,
             coef[C2] > 0.0)
-
-
-@jitable
-def soil_front(u1, n1, coef, growth):
-    """``(start, on)``: where the soil's contact starts along the pipe [cells] (model II), and
-    1.0 when the annulus meets the soil (the front end at U >= 0), else 0.0."""
-    if not growth:
-        return 0.0, 1.0
-    return soil_start(u1[0], n1, coef[DX]), 1.0 if u1[0] >= 0.0 else 0.0
-
-
-@jitable
-def store_forces(s, acc, j0, last_both, n1, dt, soil):
-    """F_outer and F_inner [N] of the call's last step from the scratch ``s``."""
-    front = n1 - 1
-    acc[F_OUT] = (sums(s, F1, 0, min(j0, front)) + sums(s, F1, last_both, n1)) / dt \
-        if soil else 0.0
-    acc[F_IN] = sums(s, F2, j0, n1) / dt
 
 
 @jitable

@@ -100,10 +100,9 @@ class Slide:
         #: the entry P holds the plug's velocity: it leaves with no face resistance on it
         self.carries_v2 = self.s2 < 0 and (self.s3 < 0 or (self.s3 > 0 and c["qp"] == 0.0))
         self.y0 = list(y0)
-        if self.carries_v2:
-            self.y0[_P] = self.v2_origin
         self.scale = _scales(y0, v2, q, c)
         if self.carries_v2:
+            self.y0[_P] = self.v2_origin
             self.scale[_P] = self.scale[_V1]
         self.node_t, self.node_y = self.t0, list(self.y0)
         self.h = self._first_step()
