@@ -116,12 +116,6 @@ _L2 = [p.name for p in PARAMETERS].index("L2")
 
 
 @cache
-def _record_into():
-    """:func:`~pipeplug.rigid.record.record_into`, compiled (looked up once per process)."""
-    return jit.compiled(record_into)
-
-
-@cache
 def _path(compiled: bool, ram: bool) -> dict:
     """The attributes a model on a path has in common: ``compiled`` (True when running
     compiled code, else the plain functions themselves), ``has_ram`` (a ram strikes the head:
@@ -133,13 +127,34 @@ def _path(compiled: bool, ram: bool) -> dict:
             "_rest": ramstep.ram_at_rest if ram else stepping.at_rest}
 
 
+#: what a compiled build needs, found at its first call (:func:`_common_path`): the compiled
+#: :func:`~pipeplug.rigid.record.record_into` and the checks' arrays; False without numba
+_COMMON: tuple | bool | None = None
+
+
+def _common_path() -> tuple | bool:
+    """Set up the common path, compiled and without a ram, once: :class:`RigidExact` holds its
+    attributes (:func:`_path`) as class attributes, so that a model built on it sets its own
+    arrays alone (a model on another path sets them on itself, over the class's). Returns
+    :data:`_COMMON`."""
+    global _COMMON
+    if _COMMON is None:
+        path = _path(True, False)
+        if path["compiled"]:
+            for name, value in path.items():
+                setattr(RigidExact, name, staticmethod(value) if callable(value) else value)
+            _COMMON = (jit.compiled(record_into), *check_rules(_NO_GROUPS))
+        else:
+            _COMMON = False
+    return _COMMON
+
+
 def _floats(values) -> np.ndarray:
     """``values`` as a writable contiguous float64 array (the type the compiled code takes),
     without a copy when they are one already."""
-    if type(values) is np.ndarray and values.dtype is _FLOAT64:
-        flags = values.flags
-        if flags.c_contiguous and flags.writeable:
-            return values                # the common case, without numpy's conversion call
+    # carray: C-contiguous, aligned and writeable, all that numba's type of it records
+    if type(values) is np.ndarray and values.dtype is _FLOAT64 and values.flags.carray:
+        return values                    # the common case, without numpy's conversion call
     array = np.ascontiguousarray(values, dtype=np.float64)
     return array if array.flags.writeable else array.copy()
 
@@ -200,19 +215,27 @@ class RigidExact(ModelBase):
         one compiled call; None where this does not build it: numba unavailable, a name or value
         the general path must convert or refuse, a ram or Smith damping (``build_model`` then
         takes the general path, which refuses with the table's message what the compiled check
-        refused)."""
-        path = _path(True, False)
-        if not path["compiled"]:
+        refused).
+
+        The single-case API's build: every step here costs a fraction of a microsecond, which
+        the step's own count of Python operations sets, so there are few of them (the path's
+        entry points are the class's, :func:`_common_path`).
+        """
+        common = _COMMON or _common_path()
+        if not common:
             return None
         held = values_record(values)
         if held is None:
             return None
         flat, record = held
+        record_into_compiled, rules, limits = common
         par = np.empty(N_PAR)
-        if _record_into()(par, flat, record, *check_rules(_NO_GROUPS), growth) != BUILT:
+        if record_into_compiled(par, flat, record, rules, limits, growth) != BUILT:
             return None
         model = object.__new__(cls)
-        model._setup(par, flat.item(_L2), path)
+        model._par, model._st, model._log = par, _FRESH.copy(), np.zeros(_LOG_SIZE)
+        model._constant = (flat.item(_L2), 0.0, 0.0)
+        model._modes = []
         return model
 
     @property
