@@ -48,9 +48,9 @@ def build_model(params: Params | Mapping[str, float] | None = None,
     """
     if not isinstance(options, Options):
         options = Options.from_mapping(options)
-    if (compiled and not profile_points and options.solver == "exact" and not options.elastic
-            and not options.plug_growth):   # the common case, checked and built compiled
-        model = _variant("exact").from_values(
+    if compiled and not profile_points and options.rigid_exact:
+        # the common case, checked and built compiled at once (or None: the general path)
+        model = (_COMPILED_MODEL or _compiled_model())(
             params.__dict__ if isinstance(params, Params) else params or _NONE,
             options.contact_growth)
         if model is not None:
@@ -86,6 +86,17 @@ def build_model(params: Params | Mapping[str, float] | None = None,
         from .rigid.stress import RigidProfiles
         model._profiler = RigidProfiles(params, options.contact_growth, profile_points)
     return model
+
+
+_COMPILED_MODEL = None                 # pipeplug.rigid.exact.compiled_model, once imported
+
+
+def _compiled_model():
+    """:func:`pipeplug.rigid.exact.compiled_model`, imported at the first build that takes it."""
+    global _COMPILED_MODEL
+    from .rigid.exact import compiled_model
+    _COMPILED_MODEL = compiled_model
+    return compiled_model
 
 
 def _check_profile_points(n) -> None:

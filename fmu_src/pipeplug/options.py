@@ -7,7 +7,7 @@ model is built; they choose which submodels exist, never a branch in a time loop
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 from .params import ParameterError
 
@@ -35,6 +35,13 @@ class Options:
     contact_growth: bool = False
     elastic: bool = False
     plug_growth: bool = False
+    #: the rigid models' exact solver with a plug of constant length (set from the options
+    #: above): the single-case API's common build
+    rigid_exact: bool = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        object.__setattr__(self, "rigid_exact", self.solver == "exact" and not self.elastic
+                           and not self.plug_growth)
 
     @classmethod
     def from_mapping(cls, given: Mapping[str, object] | None = None) -> Options:

@@ -76,7 +76,7 @@ from .record import (
     state_record,
 )
 
-__all__ = ["RigidExact", "KERNELS", "RAM_KERNELS"]
+__all__ = ["RigidExact", "compiled_model", "KERNELS", "RAM_KERNELS"]
 
 #: the entry points of the solver (compiled together when numba is used)
 KERNELS = (stepping.step_to, stepping.start_piece, stepping.sample_into, stepping.outputs_at)
@@ -207,36 +207,6 @@ class RigidExact(ModelBase):
         else:
             self._par, self._st, self._log = par, list(_FRESH_LIST), [0.0] * _LOG_SIZE
         self._modes: list[tuple[int, int]] = []     # taken from the log; see modes()
-
-    @classmethod
-    def from_values(cls, values, growth: bool) -> RigidExact | None:
-        """The compiled model of the parameter ``values`` (a mapping of contract names to
-        floats; model II when ``growth``), checked and turned into the solver's constants in
-        one compiled call; None where this does not build it: numba unavailable, a name or value
-        the general path must convert or refuse, a ram or Smith damping (``build_model`` then
-        takes the general path, which refuses with the table's message what the compiled check
-        refused).
-
-        The single-case API's build: every step here costs a fraction of a microsecond, which
-        the step's own count of Python operations sets, so there are few of them (the path's
-        entry points are the class's, :func:`_common_path`).
-        """
-        common = _COMMON or _common_path()
-        if not common:
-            return None
-        held = values_record(values)
-        if held is None:
-            return None
-        flat, record = held
-        record_into_compiled, rules, limits = common
-        par = np.empty(N_PAR)
-        if record_into_compiled(par, flat, record, rules, limits, growth) != BUILT:
-            return None
-        model = object.__new__(cls)
-        model._par, model._st, model._log = par, _FRESH.copy(), np.zeros(_LOG_SIZE)
-        model._constant = (flat.item(_L2), 0.0, 0.0)
-        model._modes = []
-        return model
 
     @property
     def M1(self) -> float:
@@ -400,3 +370,32 @@ class RigidExact(ModelBase):
         self._start(st, self._par, self._log, t0, u1, v1, u2, v2, w_in, w_outer, w_inner, q,
                     int(kick), horizon)
         self.time = time
+
+
+def compiled_model(values, growth: bool) -> RigidExact | None:
+    """The compiled model of the parameter ``values`` (a mapping of contract names to floats;
+    model II when ``growth``), checked and turned into the solver's constants in one compiled
+    call; None where this does not build it: numba unavailable, a name or value the general
+    path must convert or refuse, a ram or Smith damping (``build_model`` then takes the general
+    path, which refuses with the table's message what the compiled check refused).
+
+    The single-case API's build (:func:`pipeplug.build_model`): each step here costs a
+    fraction of a microsecond, set by its count of Python operations, so there are few (the
+    path's entry points are the class's, :func:`_common_path`; no method call).
+    """
+    common = _COMMON or _common_path()
+    if not common:
+        return None
+    held = values_record(values)
+    if held is None:
+        return None
+    flat, record = held
+    record_into_compiled, rules, limits = common
+    par = np.empty(N_PAR)
+    if record_into_compiled(par, flat, record, rules, limits, growth) != BUILT:
+        return None
+    model = object.__new__(RigidExact)
+    model._par, model._st, model._log = par, _FRESH.copy(), np.zeros(_LOG_SIZE)
+    model._constant = (flat.item(_L2), 0.0, 0.0)
+    model._modes = []
+    return model
