@@ -414,14 +414,19 @@ _BLOCK = 32                             # loads compared at once by _run_end_loo
 def _run_end(loads, lo, q):
     """The end of the run of ``loads`` equal to ``q`` [N] from ``lo`` (``loads[lo] == q``):
     the first index after ``lo`` whose load differs, or the length of ``loads``. Python
-    compares blocks of loads as arrays."""
+    compares the next load alone (a load that changes at every sample costs no array
+    operation), then blocks of loads as arrays, each twice as long as the one before."""
     n = loads.shape[0]
     hi = lo + 1
+    if hi == n or loads[hi] != q:
+        return hi
+    block = _BLOCK
     while hi < n:
-        differ = np.flatnonzero(loads[hi:hi + _BLOCK] != q)
+        differ = np.flatnonzero(loads[hi:hi + block] != q)
         if differ.size:
             return hi + int(differ[0])
-        hi += _BLOCK
+        hi += block
+        block *= 2
     return n
 
 
