@@ -113,6 +113,7 @@ def _kernels(compiled: bool, ram: bool = False) -> tuple:
 _FLOAT64 = np.dtype(np.float64)        # numpy's one instance of the native float64 dtype
 _NO_GROUPS = frozenset()               # the rigid exact solver checks no conditional group
 _L2 = [p.name for p in PARAMETERS].index("L2")
+_NONE: dict = {}                        # no parameter given
 
 
 @cache
@@ -141,9 +142,19 @@ def _common_path() -> tuple | bool:
     if _COMMON is None:
         path = _path(True, False)
         if path["compiled"]:
+            # The two calls of every case, stepping and dense output, skip numba's dispatch:
+            # the model passes them the types of these examples alone (arrays it made, floats,
+            # and times and loads as _floats makes them, 1-D as sample checks).
+            st, par, log, rows = _FRESH.copy(), np.zeros(N_PAR), np.zeros(_LOG_SIZE), np.zeros(1)
+            path = dict(path, _step=jit.specialised(stepping.step_to, st, par, log, 0.0, 0.0),
+                        _sample=jit.specialised(stepping.sample_into, st, par, log, rows, rows,
+                                                np.zeros((4, 1)), 0))
             for name, value in path.items():
                 setattr(RigidExact, name, staticmethod(value) if callable(value) else value)
-            _COMMON = (jit.compiled(record_into), *check_rules(_NO_GROUPS))
+            rules, limits = check_rules(_NO_GROUPS)
+            flat, record = values_record(_NONE)
+            _COMMON = (jit.specialised(record_into, par, flat, record, rules, limits, False),
+                       rules, limits)
         else:
             _COMMON = False
     return _COMMON
@@ -291,6 +302,8 @@ class RigidExact(ModelBase):
             One array per requested output name.
         """
         times, loads = _floats(times), _floats(q)
+        if times.ndim != 1:                 # the compiled call takes 1-D times alone
+            raise ValueError(f"times must be 1-D (got {times.ndim} dimensions)")
         if loads.shape != times.shape:
             loads = np.broadcast_to(loads, times.shape).copy()
         rows, filled, in_order = _rows(names)

@@ -189,3 +189,28 @@ def test_runs_of_equal_loads_end_where_a_load_differs(compiled):
             lo = int(run_end(loads, lo, float(loads[lo])))
             ends.append(lo)
         assert ends == _run_ends_by_definition(loads)
+
+
+@pytest.mark.parametrize("compiled", [False, True], ids=["python", "compiled"])
+def test_dense_output_takes_any_array_of_times_and_loads_or_refuses_it(compiled):
+    """The compiled path calls its kernel for one set of argument types, without numba's
+    dispatch: times and loads of other kinds (a list, ints, a strided or read-only view,
+    float32) give the values of the plain float64 arrays, and times of two dimensions are
+    refused, never read as one."""
+    times = np.linspace(1e-3, 0.1, 100)
+    loads = np.where(times < 0.05, 23e3, 0.0)
+    params = {"tau1": 2e4, "tau2": 1e4}
+    expected = build_model(params, compiled=compiled).sample(loads, times)
+
+    wide = np.zeros((2, 200))
+    wide[0, ::2] = times
+    frozen = times.copy()
+    frozen.flags.writeable = False
+    variants = [(list(loads), list(times)), (loads.astype(int), times),
+                (loads, wide[0, ::2]), (loads, frozen), (loads.astype(np.float32), times)]
+    for q, t in variants:
+        out = build_model(params, compiled=compiled).sample(q, t)
+        for name in OUTPUT_NAMES:
+            np.testing.assert_array_equal(out[name], expected[name])
+    with pytest.raises(ValueError, match="1-D"):
+        build_model(params, compiled=compiled).sample(loads, times.reshape(2, 50))
