@@ -146,11 +146,15 @@ def _common_path() -> tuple | bool:
             # the model passes them the types of these examples alone (arrays it made, floats,
             # and times and loads as _floats makes them, 1-D as sample checks).
             st, par, log, rows = _FRESH.copy(), np.zeros(N_PAR), np.zeros(_LOG_SIZE), np.zeros(1)
-            path = dict(path, _step=jit.specialised(stepping.step_to, st, par, log, 0.0, 0.0),
-                        _sample=jit.specialised(stepping.sample_into, st, par, log, rows, rows,
-                                                np.zeros((4, 1)), 0))
+            path = dict(path, _step=_Specialised(stepping.step_to, st, par, log, 0.0, 0.0),
+                        _sample=_Specialised(stepping.sample_into, st, par, log, rows, rows,
+                                             np.zeros((4, 1)), 0))
             for name, value in path.items():
-                setattr(RigidExact, name, staticmethod(value) if callable(value) else value)
+                if isinstance(value, _Specialised):
+                    value.__set_name__(RigidExact, name)
+                elif callable(value):
+                    value = staticmethod(value)
+                setattr(RigidExact, name, value)
             rules, limits = check_rules(_NO_GROUPS)
             flat, record = values_record(_NONE)
             _COMMON = (jit.specialised(record_into, par, flat, record, rules, limits, False),
@@ -158,6 +162,24 @@ def _common_path() -> tuple | bool:
         else:
             _COMMON = False
     return _COMMON
+
+
+class _Specialised:
+    """A class attribute of :class:`RigidExact`: ``kernel`` compiled for the argument types of
+    ``examples`` (:func:`~pipeplug.jit.specialised`) when a model first reads it, which then
+    takes its place on the class (a model that only steps compiles, or loads from the cache,
+    no dense output)."""
+
+    def __init__(self, kernel, *examples):
+        self.kernel, self.examples = kernel, examples
+
+    def __set_name__(self, owner, name):
+        self.name = name
+
+    def __get__(self, model, owner):
+        function = jit.specialised(self.kernel, *self.examples)
+        setattr(owner, self.name, staticmethod(function))
+        return function
 
 
 def _floats(values) -> np.ndarray:
