@@ -112,7 +112,7 @@ def _kernels(compiled: bool, ram: bool = False) -> tuple:
 
 _FLOAT64 = np.dtype(np.float64)        # numpy's one instance of the native float64 dtype
 _NO_GROUPS = frozenset()               # the rigid exact solver checks no conditional group
-_L2 = [p.name for p in PARAMETERS].index("L2")
+_L2_DEFAULT = next(p.default for p in PARAMETERS if p.name == "L2")
 _NONE: dict = {}                        # no parameter given
 
 
@@ -431,6 +431,6 @@ def compiled_model(values, growth: bool) -> RigidExact | None:
         return None
     model = object.__new__(RigidExact)
     model._par, model._st, model._log = par, _FRESH.copy(), np.zeros(_LOG_SIZE)
-    model._constant = (flat.item(_L2), 0.0, 0.0)
+    model._constant = (values.get("L2", _L2_DEFAULT), 0.0, 0.0)   # a float, as checked
     model._modes = []
     return model

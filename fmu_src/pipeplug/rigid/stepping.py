@@ -383,7 +383,7 @@ def sample_into(st, par, log, loads, times, table, first):
 def _run_end_loop(loads, lo, q):
     """:func:`_run_end` as compiled code runs it.
 
-    Blocks of 32 loads are compared with ``q`` by their bits, or-ed without a branch, which
+    Blocks of 128 loads are compared with ``q`` by their bits, or-ed without a branch, which
     the compiler turns into vector instructions (a load-by-load loop took about a nanosecond
     per sample, as long as the dense output itself); the first block with a difference, and
     a load equal to ``q`` with other bits (-0.0 and 0.0), go through the load-by-load loop.
@@ -407,7 +407,7 @@ def _run_end_loop(loads, lo, q):
     return hi
 
 
-_BLOCK = 32                             # loads compared at once by _run_end_loop
+_BLOCK = 128                            # loads compared at once by _run_end_loop
 
 
 @compiled_form(_run_end_loop)

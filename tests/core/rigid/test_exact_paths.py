@@ -176,14 +176,14 @@ def _run_ends_by_definition(loads):
 @pytest.mark.parametrize("compiled", [False, True], ids=["python", "compiled"])
 def test_runs_of_equal_loads_end_where_a_load_differs(compiled):
     """The dense output splits the loads into runs of equal values, comparing blocks of them
-    at once: runs of every length about the block's, loads equal with other bits (-0.0 and
+    at once: runs of every length about the block's (128), loads equal with other bits (-0.0 and
     0.0) and a nan end where the definition ends them."""
     from pipeplug.rigid import stepping
     run_end = jit.compiled(stepping._run_end_loop) if compiled else stepping._run_end
     rng = np.random.default_rng(7)
     for _ in range(200):
         values = rng.choice([0.0, -0.0, 23e3, -23e3, np.nan, 1.0], size=int(rng.integers(1, 8)))
-        loads = np.repeat(values, rng.integers(1, 100, size=values.size))
+        loads = np.repeat(values, rng.integers(1, 400, size=values.size))
         ends, lo = [], 0
         while lo < len(loads):
             lo = int(run_end(loads, lo, float(loads[lo])))
