@@ -387,13 +387,14 @@ def _run_end_loop(loads, lo, q):
     the compiler turns into vector instructions (a load-by-load loop took about a nanosecond
     per sample, as long as the dense output itself); the first block with a difference, and
     a load equal to ``q`` with other bits (-0.0 and 0.0), go through the load-by-load loop.
+    A load that changes at every sample costs one comparison, as in that loop.
     """
     n = loads.shape[0]
     hi = lo + 1
-    if q != q:
-        return hi                       # nan equals no load, though it has its own bits
+    if hi == n or loads[hi] != q or q != q:
+        return hi                       # (nan equals no load, though it has its own bits)
     bits = loads.view(np.int64)
-    q_bits = np.array([q]).view(np.int64)[0]
+    q_bits = bits[lo]                   # a load equal to q: other bits only go load by load
     while hi + _BLOCK <= n:
         block = bits[hi:hi + _BLOCK]          # indexed from 0: no wraparound test
         differ = 0
