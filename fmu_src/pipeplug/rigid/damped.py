@@ -296,8 +296,10 @@ class RigidDamped(ModelBase):
         self.time = t_end
 
     def at_rest(self) -> bool:
-        """Both bodies stuck with no load: a step under Q = 0 changes nothing."""
-        return self.kind == REST and self._o["q"] == 0.0
+        """Both bodies stuck with no load (none yet, NaN, in a fresh model): a step under
+        Q = 0 changes nothing."""
+        q = self._o["q"]
+        return self.kind == REST and (q == 0.0 or q != q)
 
     def _forces(self, values: dict) -> tuple[float, float, float]:
         """The shaft's, the plug's and the annulus' force on the pipe [N] (dampers included)."""

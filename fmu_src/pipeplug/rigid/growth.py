@@ -147,8 +147,10 @@ class RigidGrowth(ModelBase):
         raise RuntimeError(f"more than {MAX_EVENTS_PER_STEP} friction events in one step")
 
     def at_rest(self) -> bool:
-        """Both bodies stuck with no load: a step under Q = 0 changes nothing."""
-        return self._slide is None and self._st[KIND] == AT_REST and self._q == 0.0
+        """Both bodies stuck with no load (none yet, NaN, in a fresh model): a step under
+        Q = 0 changes nothing."""
+        q = self._q
+        return self._slide is None and self._st[KIND] == AT_REST and (q == 0.0 or q != q)
 
     def modes(self) -> tuple[tuple[int, int], ...]:
         """Every piece's contact modes (pipe_mode, plug_mode) in order, repeats merged."""

@@ -366,7 +366,7 @@ def ram_step_to(st, par, log, q, t_end):
 def ram_at_rest(st):
     """Nothing moves, no load, and the ram is off the head and not coming back (no force,
     not moving forward: a ram that left and recedes does not keep the pipe from rest)."""
-    if not (st[KIND] == AT_REST and st[Q] == 0.0):
+    if not (st[KIND] == AT_REST and (st[Q] == 0.0 or st[Q] != st[Q])):   # NaN: none yet
         return False
     return st[RAM] == NONE or (st[RAM] == FREE and st[VR] <= 0.0)
 

@@ -321,8 +321,9 @@ def values_at(st, par, t):
 
 @jitable
 def at_rest(st):
-    """Both bodies stuck with no load: a step under Q = 0 changes nothing but the time."""
-    return st[KIND] == AT_REST and st[Q] == 0.0
+    """Both bodies stuck with no load (none yet, NaN, in a fresh model): a step under Q = 0
+    changes nothing but the time."""
+    return st[KIND] == AT_REST and (st[Q] == 0.0 or st[Q] != st[Q])
 
 
 @jitable

@@ -218,3 +218,18 @@ def test_modes_are_the_paper_s_domain_sequences(tau1, tau2, domain, expected, co
     restored = build_model({"tau1": tau1, "tau2": tau2}, compiled=compiled)
     restored.set_state(m.get_state())
     assert restored.modes() == expected
+
+
+@pytest.mark.parametrize("params, options", [
+    ({}, {}), ({}, {"contact_growth": True}), ({}, {"plug_growth": True}),
+    ({"ram_mass": 10.0, "cushion_stiffness": 1e8}, {}), ({"J_shaft": 0.1}, {}),
+    ({}, {"solver": "fd"}), ({}, {"elastic": True})])
+def test_a_fresh_model_of_every_kind_is_at_rest_and_a_step_under_no_load_keeps_it(params,
+                                                                                    options):
+    """build_model gives a model at rest at t = 0 (every kind alike): at_rest is true before
+    any step, and a step under Q = 0 changes no output."""
+    m = build_model(dict(params, tau1=2e4), options)
+    before = m.outputs()
+    assert m.at_rest() and before.at_rest
+    m.advance(0.0, 1e-3)
+    assert m.at_rest() and m.outputs() == before
