@@ -23,8 +23,9 @@ event mode maps onto it, its start and stop time coming with fmi3EnterInitializa
 structural parameters settable with the parameters): fmi2SetupExperiment and
 fmi2EnterInitializationMode in "instantiated", fmi2ExitInitializationMode in
 "initialization mode", fmi2DoStep and fmi2Terminate in "stepping"; parameters may be set before
-initialization, inputs also while stepping, nothing after fmi2Terminate; values may be read in
-every phase. A call out of that sequence is refused and changes nothing.
+initialization, inputs also while stepping, nothing after fmi2Terminate; values may be read
+from initialization mode on (FMI 3.0: also before it, as its state machine allows; the binding
+checks). A call out of that sequence is refused and changes nothing.
 
 Every refusal is one line naming the variable (or the call), its value and what is allowed:
 
@@ -216,7 +217,7 @@ class FmiBase(StateHandling):
             t, end = self._time, current_time + step_size
             # Written so that NaN fails every test: ``not (x <= bound)`` rather than ``x > bound``.
             if not (abs(current_time - t) <= TIME_TOLERANCE * max(1.0, abs(t))
-                    and step_size > 0.0 and end > t and end <= self._stop_limit):
+                    and 0.0 < step_size < _INF and end > t and end <= self._stop_limit):
                 return self._refuse_step(current_time, step_size)
             out = self._step(self._model, current_time, step_size)
             try:                                   # _all_finite(out), inline: every step
@@ -245,8 +246,8 @@ class FmiBase(StateHandling):
         if not abs(current_time - t) <= TIME_TOLERANCE * max(1.0, abs(t)):
             raise Discard.of("currentCommunicationPoint", current_time,
                              f"the FMU time {t!r} s within 1e-9*max(1, |t|)")
-        if not step_size > 0.0:
-            raise Discard.of("communicationStepSize", step_size, "> 0 [s]")
+        if not 0.0 < step_size < _INF:
+            raise Discard.of("communicationStepSize", step_size, "> 0, finite [s]")
         if not current_time + step_size > t:
             raise Discard.of("currentCommunicationPoint + communicationStepSize",
                              current_time + step_size, f"> the FMU time {t!r} s")
@@ -350,6 +351,7 @@ class FmiBase(StateHandling):
 
 
 _fsum = math.fsum
+_INF = math.inf
 
 
 def _flat(values):

@@ -26,8 +26,9 @@ registers its variables from, so the two cannot disagree.
 
 pythonfmu writes each zip with its own binaries; the build then compiles the loader
 (:mod:`pipeplug_fmu.native`, with the ``ziglang`` package, once per FMU with its model
-identifier) and puts it at ``binaries/linux64/<modelIdentifier>.so``, pythonfmu's linux64 binary
-beside it as ``<modelIdentifier>_pythonfmu.so``; for FMI 3.0 the same with the FMI 3.0 loader in
+identifier and the guid or instantiationToken pythonfmu gave it) and puts it at
+``binaries/linux64/<modelIdentifier>.so``, pythonfmu's linux64 binary beside it as
+``<modelIdentifier>_pythonfmu.so``; for FMI 3.0 the same with the FMI 3.0 loader in
 ``binaries/x86_64-linux/`` before pythonfmu3's binary. The win64 binaries are pythonfmu's and
 pythonfmu3's, unchanged.
 """
@@ -42,7 +43,7 @@ import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 
-from .native import compile_loader, inner_name, platform_folder
+from .native import compile_loader, inner_name, model_token, platform_folder
 from .pythonfmu07 import SCRIPT
 
 __all__ = ["build", "build_fmu", "stage", "install_loader", "main", "DEFAULT_DEST", "FMUS",
@@ -156,15 +157,17 @@ def build_fmu(identifier: str, dest: Path, version: int = 2) -> Path:
                 canSerializeFMUState=True, canHandleVariableCommunicationStepSize=True,
                 needsExecutionTool=True))
             fmu = Path(shutil.move(str(built), str(dest)))
-            install_loader(fmu, compile_loader(Path(tmp) / f"{identifier}.so", identifier, 3),
-                           identifier, 3)
+            loader = compile_loader(Path(tmp) / f"{identifier}.so", identifier, 3,
+                                    model_token(fmu, 3))
+            install_loader(fmu, loader, identifier, 3)
             return fmu
         fmu = Path(FmuBuilder.build_FMU(
             script, dest=dest, project_files=[package], documentation_folder=docs,
             canGetAndSetFMUstate=True, canSerializeFMUstate=True,
             canHandleVariableCommunicationStepSize=True, needsExecutionTool=True))
-        install_loader(fmu, compile_loader(Path(tmp) / f"{identifier}.so", identifier),
-                       identifier)
+        loader = compile_loader(Path(tmp) / f"{identifier}.so", identifier, 2,
+                                model_token(fmu, 2))
+        install_loader(fmu, loader, identifier)
         return fmu
 
 

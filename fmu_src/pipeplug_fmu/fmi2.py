@@ -25,9 +25,11 @@ from pythonfmu.enums import Fmi2Status
 
 from .fmi import decorate_model_description
 from .pythonfmu07 import escape_percent
+from .sequence import Phase, Refuse
 
 __all__ = ["Fmi2Binding"]
 
+_INSTANTIATED = Phase.INSTANTIATED
 _TYPES = {"Real": Real, "Integer": Integer, "Boolean": Boolean, "String": String}
 
 
@@ -60,20 +62,35 @@ class Fmi2Binding(Fmi2Slave):
         self._setup("fmi2SetupExperiment", start_time, stop_time)
 
     # Getters and setters: the hot ones inline ------------------------------------------------
+    # FMI 2.0 reads values from fmi2EnterInitializationMode on: a getter before it is out of
+    # the call sequence (the standard's state machine; FMI 3.0 allows it, see fmi3.py).
     def get_real(self, vrs):
+        if self._phase is _INSTANTIATED:
+            self._refuse_early_get("Real")
         try:
             return list(map(self._reals.__getitem__, vrs))
         except Exception:
             self._refuse_get(vrs, "Real")
 
     def get_integer(self, vrs):
+        if self._phase is _INSTANTIATED:
+            self._refuse_early_get("Integer")
         return self._get("Integer", vrs)
 
     def get_boolean(self, vrs):
+        if self._phase is _INSTANTIATED:
+            self._refuse_early_get("Boolean")
         return self._get("Boolean", vrs)
 
     def get_string(self, vrs):
+        if self._phase is _INSTANTIATED:
+            self._refuse_early_get("String")
         return self._get("String", vrs)
+
+    def _refuse_early_get(self, kind: str) -> None:
+        call = f"fmi2Get{kind}"
+        self._fail(call, Refuse(f"{call} is not allowed in {_INSTANTIATED.value}; allowed: "
+                                f"from fmi2EnterInitializationMode on ({self.SEQUENCE})"))
 
     def set_real(self, vrs, values):
         self._set_input("Real", vrs, values)
@@ -89,6 +106,9 @@ class Fmi2Binding(Fmi2Slave):
 
     # modelDescription.xml (build time only) ------------------------------------------------
     def to_xml(self, model_options=None):
+        # pythonfmu reads the start values with the getters, which FMI 2.0 allows from
+        # initialization mode on: this instance, made to be described, is put there first.
+        self._enter(Phase.INITIALIZATION)
         root = super().to_xml(model_options or {})
         decorate_model_description(root, [(v.name, v.unit, v.bounds) for v in self._variables])
         calculated = getattr(self, "_calculated", ())

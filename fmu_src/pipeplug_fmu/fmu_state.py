@@ -3,8 +3,9 @@
 A state is a dict of plain values: a mark of the FMU and build, the phase, the FMU's time and
 stopTime, every variable's value by name and, once initialized, the model's own state (the
 slave's ``_save``). Setting one checks it whole before anything changes (the mark, the phase,
-finite times, every variable of its FMI type, outputs finite, the model's state like one of a
-model of its parameters: :func:`conformity`) and refuses it with one line otherwise.
+finite times, every variable of its FMI type, outputs finite, structural parameters (FMI 3.0)
+the instance's own, the model's state like one of a model of its parameters: :func:`conformity`)
+and refuses it with one line otherwise.
 Serialized, it is its JSON without the model, a newline and the model's bytes (the slave's
 ``_model_to_bytes``); the classmethods pythonfmu calls never raise (pythonfmu07 P10).
 """
@@ -84,6 +85,11 @@ class StateHandling:
                     var.causality == "output" and not all_finite(items)):
                 raise Refuse.of(f"{self.STATE} {name}", value, f"a {var.kind}" + (
                     ", finite" if var.causality == "output" else ""))
+            if var.causality == "structuralParameter" and value != self._tables[var.kind][var.vr]:
+                # the host sized its arrays by the instance's value: a state never changes it
+                raise Refuse.of(f"{self.STATE} {name}", value,
+                                f"{self._tables[var.kind][var.vr]!r}, this instance's "
+                                f"(a structural parameter: a state of another is refused)")
         if (phase in RUNNING) != isinstance(state.get("model"), dict):
             raise Refuse.of(f"{self.STATE} model", type(state.get("model")).__name__,
                             "the model's state once initialized, none before")

@@ -9,7 +9,9 @@ its outputs and state to the base.
 
 Refusals of its own: a parameter or option the core refuses (fmi2Error, the core's line); a
 non-finite ``Q``, or a step the core refuses with :class:`~pipeplug.ParameterError` (too many
-internal steps, say), is fmi2Discard with that line and changes nothing.
+internal steps, say), is fmi2Discard with that line and changes nothing; a step whose values
+overflow (an ArithmeticError of the core: a huge force or step) is fmi2Error naming ``Q``, the
+step and the overflow.
 
 :class:`PipePlugSlave` imports no FMI library: the FMUs' classes put a binding after it
 (:mod:`pipeplug_fmu.fmi2`, :mod:`pipeplug_fmu.fmi3`). On a binding with arrays (FMI 3.0) it
@@ -27,6 +29,8 @@ from __future__ import annotations
 
 import importlib
 import pkgutil
+import re
+import warnings
 
 from . import pipeplug as core
 from .base import Discard, FmiBase, Refuse, conformity
@@ -34,6 +38,10 @@ from .fmi import DEFAULT_EXPERIMENT, DESCRIPTION, INPUTS, refusal
 
 for _module in pkgutil.walk_packages(core.__path__, core.__name__ + "."):
     importlib.import_module(_module.name)        # every model kind, now (see the docstring)
+
+# numpy's warnings from this copy of the core (an overflow in a step refused afterwards by name)
+# would be printed on the host's stderr: the refusal's line says it to the host's logger.
+warnings.filterwarnings("ignore", category=RuntimeWarning, module=re.escape(core.__name__) + r"\.")
 
 _KIND_OF_OUTPUT = {"Real": ("Real", "continuous", 0.0), "Integer": ("Integer", "discrete", 0),
                    "Boolean": ("Boolean", "discrete", False)}
@@ -149,6 +157,10 @@ class PipePlugSlave(FmiBase):
             if saved is not None:
                 model.set_state(saved)
             raise Discard(refusal(exc.name, exc.value, exc.allowed)) from None
+        except ArithmeticError as exc:             # values beyond float range: in error
+            raise Refuse(refusal("Q", q, f"a force whose step from t = {t!r} s by {h!r} s the "
+                                         f"model computes in finite numbers (it overflowed: "
+                                         f"{exc}); set a saved FMU state or reset")) from None
         self._strikes_seen, self._cleanouts_seen = strikes, cleanouts
         if self.ARRAYS:
             return (*model.outputs(), *(a.tolist() for a in model.profiles()))

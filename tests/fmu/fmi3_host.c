@@ -11,7 +11,7 @@
  *       get{Float64,Int32,UInt64,Boolean,String,Float32,Int64} NVALUES NVR VR...
  *       set{...} NVR VR... NVALUES VALUE...
  *   get_state ID -> int S;  set_state ID S (S 0: NULL);  free_state ID S [keep]
- *   serialize ID S [SIZE] -> hex BYTES;  deserialize ID BYTES -> int S;  free ID
+ *   serialize ID S [SIZE] -> hex BYTES;  deserialize ID BYTES -> int S;  free ID [keep]
  *   null ID METHOD N                       -> METHOD with NULL pointer arguments (N elements)
  *   debug ID ON N CATEGORY...              -> fmi3SetDebugLogging
  *   pulse ID QVR Q0 T0 H N NVALUES NVR VR...  -> N steps of Q = Q0 for t < T0, else 0, stepped

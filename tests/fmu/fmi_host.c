@@ -10,7 +10,7 @@
  *   get_state ID -> int S;  set_state ID S (S 0: NULL);  free_state ID S [keep]
  *       (keep: the slot keeps the freed pointer);  serialize ID S [SIZE] -> hex BYTES
  *       (SIZE: the buffer's size given instead of fmi2SerializedFMUstateSize's)
- *   deserialize ID BYTES -> int S;  free ID
+ *   deserialize ID BYTES -> int S;  free ID [keep] (keep: the slot keeps the freed pointer)
  *   null ID METHOD N                       -> METHOD with NULL pointer arguments (N elements)
  *   debug ID ON N CATEGORY...              -> fmi2SetDebugLogging
  *   pulse ID QVR Q0 T0 H N NVR VR...       -> N steps of Q = Q0 for t < T0, else 0, stepped

@@ -356,7 +356,9 @@ static int command(void) {
         debug_logging(c, words + 2);
     } else if (strcmp(op, "free") == 0) {
         ((void (*)(Instance))fn(FMI "FreeInstance"))(c);
-        instances[atoi(words[1]) % MAX] = NULL, instance_libs[atoi(words[1]) % MAX] = NULL;
+        /* the slot is free again, or keeps the freed pointer ("keep": a host's late calls) */
+        if (!(n_words > 2 && strcmp(words[2], "keep") == 0))
+            instances[atoi(words[1]) % MAX] = NULL, instance_libs[atoi(words[1]) % MAX] = NULL;
         answer_status(0);
     } else if (strcmp(op, "setenv") == 0) {
         char *name = from_hex(words[1], NULL), *value = from_hex(words[2], NULL);

@@ -283,7 +283,10 @@ class FmiRules(RuleBasedStateMachine):
     @rule(ident=instances)
     def get_outputs(self, ident):
         inst = self.live[ident]
-        if inst.phase != "error":
+        if inst.phase == "instantiated":          # FMI 2.0 reads from initialization on
+            self.refused_with_error(inst, self.call(inst, "getReal", [self.vr["v_pipe"]]),
+                                    ["fmi2GetReal"])
+        elif inst.phase != "error":
             self.check_outputs(inst, inst.outputs)
         else:
             self.refused_with_error(inst, self.call(inst, "getReal", [self.vr["v_pipe"]]), [])

@@ -96,8 +96,9 @@ class Host:
         self.instances[self.n_instances] = (fmu, component)
         return f"@@ 0 int {self.n_instances}"
 
-    def op_free(self, ident) -> str:
-        fmu, c = self.instances.pop(int(ident))
+    def op_free(self, ident, keep=None) -> str:
+        # "keep": the slot keeps the freed instance (a host's late calls through it)
+        fmu, c = self.instances[int(ident)] if keep == "keep" else self.instances.pop(int(ident))
         fmu.fmi2FreeInstance(c)
         return "@@ 0 none"
 

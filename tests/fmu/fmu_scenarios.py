@@ -120,8 +120,11 @@ def reset(fmu_dir, params, times, q0, t0):
     used.start(params)
     run_grid(used, times, q0, t0)
     used.call("reset")
+    used.call("setupExperiment", None, 0.0, None)
+    used.call("enterInitializationMode")              # FMI 2.0 reads values from here on
     after_reset = {name: used.get(name) for name in params}
     after_reset_outputs = used.outputs()
+    used.call("reset")
     refused = Slave(fmu_dir, "refused")
     refused_status = refused.start({"tau2": float("nan")})
     refused.call("reset")

@@ -124,13 +124,13 @@ class Session(HostSession):
             process = CHost([sys.executable, str(HERE / "fmpy_host.py")], fmu_dir, None)
         super().__init__(host, logging, fmu_dir, hammer_dir, process)
 
-    def new(self, name="probe", uri=None, kind=1, fmu_dir=None, lib=None) -> dict:
+    def new(self, name="probe", uri=None, kind=1, fmu_dir=None, lib=None, token=None) -> dict:
         """fmi2Instantiate of PipePlug, or of the FMU in ``fmu_dir`` from the host's binary
         ``lib`` (``name`` or ``uri`` None: NULL; bytes: as they are; ``uri`` "usual": the
-        FMU's resources)."""
+        FMU's resources; ``token``: the fmuGUID given, by default the FMU's)."""
         fmu_dir = fmu_dir or self.fmu_dir
         uri = resource_uri(fmu_dir) if uri == "usual" else uri
-        return self("instantiate", null_or_hexed(name), hexed(guid_of(fmu_dir)),
+        return self("instantiate", null_or_hexed(name), hexed(token or guid_of(fmu_dir)),
                     null_or_hexed(uri), int(self.logging), kind, *([] if lib is None else [lib]))
 
     def _binary_word(self, fmu_dir: Path, identifier: str) -> str:
@@ -353,6 +353,7 @@ def python_answering(s: Session):
 
 
 LIVE = "a live state of this PipePlug"
+WRONG_TOKEN = "{00000000-dead-beef-0000-000000000000}"
 AFTER = ("after an error",)
 
 #: name -> (probe, expected)
@@ -406,6 +407,13 @@ PROBES = {
                                    Expected(DISCARD, ("v_strike = inf", "finite"),
                                             then_set=(("v_strike", 3.0),))),
     "huge Q": (stepped(0.005, 0.005, 1e200), Expected(ERROR, ("W_input = inf", "finite"))),
+    "infinite step": (stepped(0.005, float("inf")),
+                      Expected(DISCARD, ("communicationStepSize = inf", "finite"))),
+    # values beyond float range inside a step: fmi2Error naming Q, the step and the overflow
+    "fd huge Q": (stepped(0.005, 0.005, 1e300, params={"solver": "fd"}),
+                  Expected(ERROR, ("Q = 1e+300", "by 0.005 s", "overflowed"))),
+    "huge step": (stepped(0.005, 1e300), Expected(ERROR, ("Q = 23000.0", "by 1e+300 s",
+                                                          "overflowed"))),
     # (the first step at rest costs nothing; after the discard the run goes on at rest)
     "fd dt = 1e-300": (stepped(0.005, 0.005, params={"solver": "fd", "dt": 1e-300},
                                first_q=0.0),
@@ -433,6 +441,9 @@ PROBES = {
                         Expected(ERROR, ("fmi2EnterInitializationMode",))),
     "terminate before init": (out_of_order(lambda s, i: None, "terminate"),
                               Expected(ERROR, ("fmi2Terminate", "instantiated"))),
+    "getReal before init": (out_of_order(lambda s, i: None, "getReal", 1, 0),
+                            Expected(ERROR, ("fmi2GetReal", "instantiated",
+                                             "fmi2EnterInitializationMode"))),
     "NaN startTime": (out_of_order(lambda s, i: None, "setupExperiment", "none", "nan", "none"),
                       Expected(ERROR, ("startTime = nan",))),
     "stopTime before startTime": (out_of_order(lambda s, i: None, "setupExperiment", "none",
@@ -444,6 +455,8 @@ PROBES = {
     "instance name not UTF-8": (instantiate(name=b"\xff\xfe", uri="usual"),
                                 Expected("null", ("instanceName = '\\xff\\xfe'", "UTF-8"))),
     "model exchange": (instantiate(uri="usual", kind=0), Expected("null", ("fmuType = 0",))),
+    "GUID of another FMU": (instantiate(uri="usual", token=WRONG_TOKEN),
+                            Expected("null", (f"fmuGUID = '{WRONG_TOKEN}'", "guid"))),
     "resources: temp folder": (instantiate(uri="file:///tmp"),
                                Expected("null", ("fmuResourceLocation = 'file:///tmp'",
                                                  "resources"))),

@@ -18,6 +18,7 @@ from probes import (
     ERROR,
     LIMITED,
     PROBES,
+    WRONG_TOKEN,
     Expected,
     HostSession,
     instantiate,
@@ -69,13 +70,14 @@ class Session3(HostSession):
         return self.host(*words)
 
     def new(self, name="probe", uri=None, kind=1, event_mode=0, fmu_dir=None,
-            lib=None) -> dict:
+            lib=None, token=None) -> dict:
         """fmi3InstantiateCoSimulation of PipePlug, or of the FMU in ``fmu_dir`` from the host's
         binary ``lib`` (``name`` or ``uri`` None: NULL; ``uri`` "usual": the FMU's resources;
-        ``kind`` 0, FMI 2.0's model exchange: eventModeUsed true)."""
+        ``kind`` 0, FMI 2.0's model exchange: eventModeUsed true; ``token``: the
+        instantiationToken given, by default the FMU's)."""
         fmu_dir = fmu_dir or self.fmu_dir
         path = resource_path(fmu_dir) if uri == "usual" else uri
-        return self.host("instantiate", null_or_hexed(name), hexed(token_of(fmu_dir)),
+        return self.host("instantiate", null_or_hexed(name), hexed(token or token_of(fmu_dir)),
                          null_or_hexed(path), int(self.logging), int(event_mode or kind == 0),
                          *([] if lib is None else [lib]))
 
@@ -134,7 +136,8 @@ NOT_MAPPED = {"setupExperiment after init", "setupExperiment in init", "NaN star
               "resources: temp folder", "resources: no folder", "resources: malformed escape",
               "resources: too long", "resources: another host", "NULL arrays get",
               "NULL arrays set", "NULL arrays strings", "NULL status value",
-              "python never exits", "python prints without end", "percent in a string"}
+              "python never exits", "python prints without end", "percent in a string",
+              "getReal before init", "GUID of another FMU"}
 
 
 def _from_fmi2() -> dict:
@@ -176,6 +179,19 @@ def _nvalues(method, n_values, names):
     return probe
 
 
+def _state_of_other_points(s: Session3):
+    """fmi3SetFMUState of a state of 11 profile points into an instance configured for 50: the
+    host sized its arrays by 50, so the state is refused (it would change them)."""
+    saved = s("get_state", s.running())["words"][0]
+    ident = s.instance()
+    s.ok(ident, "enterConfigurationMode")
+    answer = s.set(ident, "profile_points", 50)
+    assert answer["status"] == 0 and answer["log"] == [], answer
+    s.ok(ident, "exitConfigurationMode")
+    assert s.start(ident)["status"] == 0
+    return s("set_state", ident, saved), ident
+
+
 #: name -> (probe, expected): FMI 2.0's that map, then FMI 3.0's own.
 PROBES3 = {
     **_from_fmi2(),
@@ -196,6 +212,9 @@ PROBES3 = {
     "terminate before init": (out_of_order(lambda s, i: None, "terminate"),
                               Expected(ERROR, ("fmi3Terminate", "instantiated"),
                                        ("c", "python"))),
+    "token of another FMU": (instantiate(uri="usual", token=WRONG_TOKEN),
+                             Expected("null", (f"instantiationToken = '{WRONG_TOKEN}'",
+                                               "instantiationToken of this"), ("c", "python"))),
     # The FMI 3.0 state machine beyond the slave's call sequence.
     "enterConfigurationMode after init": (_running_then("enterConfigurationMode"),
                                           Expected(ERROR, ("fmi3EnterConfigurationMode",
@@ -215,6 +234,9 @@ PROBES3 = {
                                 ("c", "python"))),
     "enterStepMode": (_running_then("enterStepMode"),
                       Expected(ERROR, ("fmi3EnterStepMode",), ("c", "python"))),
+    "state of other profile points": (_state_of_other_points,
+                                      Expected(ERROR, ("FMUState profile_points = 11", "50",
+                                                       "structural"), ("c", "python"))),
     # Counts of values, types without variables.
     "more values than the variables hold": (_nvalues("getFloat64", 20, ["v_pipe_profile"]),
                                             Expected(ERROR, ("nValues = 20", "allowed: 11"),

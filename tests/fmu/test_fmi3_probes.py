@@ -17,7 +17,12 @@ from __future__ import annotations
 
 import pytest
 from probes3 import PROBES3, Session3
-from test_fmu_probes import _another_instance_runs, _environment, _refused_then
+from test_fmu_probes import (
+    _another_instance_runs,
+    _environment,
+    _refused_then,
+    freed_instance_refuses,
+)
 
 SHARED = [name for name, (_, expected) in PROBES3.items() if not expected.env]
 OWN_PROCESS = [name for name, (_, expected) in PROBES3.items() if expected.env]
@@ -68,4 +73,11 @@ def test_a_python_that_does_not_answer_is_refused_in_a_c_host(name, fmi3_dirs, c
                        c3_library, _environment(PROBES3[name][1].env, tmp_path))
     _probe(session, name)
     _another_instance_runs(session)
+    assert session.close() == 0
+
+
+def test_a_freed_instance_is_refused_not_a_crash(fmi3_dirs, c3_host, c3_library):
+    session = Session3("c", True, fmi3_dirs["PipePlug"], fmi3_dirs["Hammer"], c3_host,
+                       c3_library)
+    freed_instance_refuses(session)
     assert session.close() == 0

@@ -7,6 +7,9 @@ and another instance in it keeps working. (``test_fmu_probes.py`` drives many mo
 logging off too, in a C host as well.)"""
 from __future__ import annotations
 
+import subprocess
+import sys
+
 import pytest
 from fmu_helpers import Q0, assert_matches_closed_form, closed_form, columns, run_scenario
 
@@ -110,3 +113,36 @@ def test_refused_parameters_never_reach_libcosim(fmu_file):
     refuses the execution first, with the FMU's wording, and the process goes on."""
     result = run_scenario("cosim_refused_parameters", fmu_file, params={"tau1": -1.0})
     assert result["refused"] == "tau1 = -1.0 is not allowed; allowed: finite, >= 0"
+
+
+OVERFLOW = """
+import sys
+from fmpy import extract, read_model_description
+from fmpy.fmi2 import FMU2Slave
+from fmpy.fmi1 import FMICallException
+md = read_model_description(sys.argv[1])
+vr = {v.name: v.valueReference for v in md.modelVariables}
+fmu = FMU2Slave(guid=md.guid, unzipDirectory=extract(sys.argv[1]), modelIdentifier="PipePlug")
+fmu.instantiate(loggingOn=False)
+fmu.setupExperiment(startTime=0.0)
+fmu.enterInitializationMode()
+fmu.setBoolean([vr["elastic"]], [True])
+fmu.exitInitializationMode()
+fmu.setReal([vr["Q"]], [1e300])
+try:
+    fmu.doStep(0.0, 1e-3)
+except FMICallException as exc:
+    print("STATUS", int(exc.status), flush=True)
+"""
+
+
+def test_an_overflow_inside_a_step_is_refused_by_its_line_alone(fmu_file):
+    """The elastic model under Q = 1e300: fmi2Error with the line naming the output that is not
+    finite, and nothing of numpy's on the host's stderr (its overflow warnings are the FMU's
+    business, said by that line)."""
+    proc = subprocess.run([sys.executable, "-c", OVERFLOW, str(fmu_file)], capture_output=True,
+                          text=True, timeout=300, check=False)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    assert "STATUS 3" in proc.stdout, proc.stdout
+    assert "is not allowed" in proc.stdout + proc.stderr        # fmpy prints the error line
+    assert "Warning" not in proc.stderr, proc.stderr

@@ -141,6 +141,30 @@ def _instantiates_again(s: Session) -> None:
     s.running()
 
 
+def freed_instance_refuses(s) -> None:
+    """A host that frees an instance twice, or calls it in its clean-up after freeing it: the
+    second free does nothing, a call is refused with the error status and no line (the logger
+    belonged to the freed instance); the process goes on (FMI leaves such calls undefined)."""
+    ident = s.running()
+    assert s("free", ident, "keep") == {"status": 0, "kind": "none", "words": [], "log": []}
+    assert s("free", ident, "keep") == {"status": 0, "kind": "none", "words": [], "log": []}
+    for words in (("call", ident, "getReal", 1, s.vr("v_pipe")),
+                  ("call", ident, "doStep", "0.0", "0.001"), ("get_state", ident),
+                  ("call", ident, "reset"), ("call", ident, "terminate")):
+        answer = s(*words)
+        assert answer["status"] == ERROR and answer["log"] == [], (words, answer)
+    _another_instance_runs(s)
+
+
+@pytest.mark.parametrize("host", ["c", "fmpy"])
+def test_a_freed_instance_is_refused_not_a_crash(host, hosts):
+    try:
+        freed_instance_refuses(hosts.session(host, True))
+    except BaseException:
+        hosts.drop(host, True)
+        raise
+
+
 def _another_instance_runs(s: Session) -> None:
     ident = s.running({"tau1": 2e4})
     for k in range(3):

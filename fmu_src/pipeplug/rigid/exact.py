@@ -298,6 +298,8 @@ class RigidExact(ModelBase):
         if code == stepping.LOAD_NOT_FINITE:
             raise ValueError("a step needs a finite load q")
         if code == stepping.SEGMENT_MISSED:
+            if not math.isfinite(self._st[ERROR]):   # not a missed event: beyond float range
+                raise OverflowError(f"the pipe's displacement U1 = {float(self._st[ERROR])!r} m")
             raise RuntimeError(f"segment event at U1 = {float(self._st[ERROR])!r} m, "
                                f"{float(self._st[END])!r} m expected")
 

@@ -16,9 +16,12 @@ from __future__ import annotations
 import re
 import subprocess
 import sys
+import zipfile
 from pathlib import Path
+from xml.etree import ElementTree
 
-__all__ = ["INNER_NAME", "SOURCES", "TARGET", "compile_loader", "inner_name", "platform_folder"]
+__all__ = ["INNER_NAME", "SOURCES", "TARGET", "compile_loader", "inner_name", "model_token",
+           "platform_folder"]
 
 _HERE = Path(__file__).resolve().parent
 _ENTRY = {2: _HERE / "loader.c", 3: _HERE / "loader3.c"}        # each version's FMI functions
@@ -31,6 +34,7 @@ TARGET = "x86_64-linux-gnu.2.17"           # zig target: x86-64 Linux, glibc >= 
 _FLAGS = ("-shared", "-fPIC", "-O2", "-fvisibility=hidden", "-Wall", "-Wextra", "-Werror",
           "-Wl,-z,nodelete")
 _IDENTIFIER = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")   # a C identifier (FMI's modelIdentifier)
+_TOKEN = re.compile(r"\{?[0-9a-fA-F]{8}(-[0-9a-fA-F]{4}){3}-[0-9a-fA-F]{12}\}?")  # a UUID, braced or not
 
 
 def inner_name(model_identifier: str) -> str:
@@ -46,22 +50,34 @@ def platform_folder(version: int) -> str:
     return "binaries/x86_64-linux" if version == 3 else "binaries/linux64"
 
 
-def compile_loader(dest: Path, model_identifier: str = "PipePlug", version: int = 2) -> Path:
+def compile_loader(dest: Path, model_identifier: str, version: int, token: str) -> Path:
     """Compile the FMI ``version`` (2 or 3) loader for the FMU ``model_identifier`` into the
-    shared library ``dest``.
+    shared library ``dest``; it instantiates for the ``token`` alone (the guid or
+    instantiationToken of the FMU's modelDescription.xml, :func:`model_token`).
 
-    Returns ``dest``. Raises ValueError for an identifier that is not a C identifier, and
-    RuntimeError with the compiler's messages when compiling fails.
+    Returns ``dest``. Raises ValueError for an identifier that is not a C identifier or a token
+    that is not a UUID, and RuntimeError with the compiler's messages when compiling
+    fails.
     """
     if not _IDENTIFIER.fullmatch(model_identifier):
         raise ValueError(f"model identifier {model_identifier!r} is not a C identifier")
+    if not _TOKEN.fullmatch(token):
+        raise ValueError(f"token {token!r} is not a UUID")
     if version not in SOURCES:
         raise ValueError(f"FMI version {version!r} is not allowed; allowed: 2, 3")
     cmd = [sys.executable, "-m", "ziglang", "cc", *_FLAGS, f"-DMODEL_IDENTIFIER={model_identifier}",
-           f"-DFMI_VERSION={version}", "-target", TARGET, "-o", str(dest),
+           f"-DFMI_VERSION={version}", f'-DTOKEN="{token}"', "-target", TARGET, "-o", str(dest),
            *map(str, SOURCES[version])]
     proc = subprocess.run(cmd, capture_output=True, text=True, check=False)
     if proc.returncode != 0:
         raise RuntimeError(f"compiling the FMU's loader failed ({' '.join(cmd)}):\n"
                            f"{proc.stdout}{proc.stderr}")
     return dest
+
+
+def model_token(fmu: Path, version: int) -> str:
+    """The guid (FMI 2.0) or instantiationToken (FMI 3.0) of the FMU ``fmu``'s
+    modelDescription.xml."""
+    with zipfile.ZipFile(fmu) as archive:
+        root = ElementTree.fromstring(archive.read("modelDescription.xml"))
+    return root.attrib["instantiationToken" if version == 3 else "guid"]

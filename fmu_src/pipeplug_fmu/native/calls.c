@@ -46,8 +46,23 @@ int name_refusal(const char *name, Text *why) {
     return -1;
 }
 
+int token_refusal(const char *token, Text *why) {
+    if (token != NULL && strcmp(token, TOKEN) == 0) return 0;
+    text_printf(why, TOKEN_ARGUMENT " = ");
+    text_shown(why, token, token ? strlen(token) : 0, 100);
+    text_printf(why, " is not allowed; allowed: \"%s\" (the " TOKEN_ATTRIBUTE " of this "
+                MODEL "'s modelDescription.xml: the host read another FMU's)", TOKEN);
+    return -1;
+}
+
 void instance_free_memory(Instance *in) {
     free(in->lines), free(in->name), free(in);
+}
+
+void instance_bury(Instance *in) {
+    free(in->lines), free(in->name);
+    *in = (Instance){0};
+    in->freed = 1;
 }
 
 Instance *instance_made(Instance *in) {
@@ -59,17 +74,17 @@ Instance *instance_made(Instance *in) {
 /* The calls alike ---------------------------------------------------------------------------- */
 EXPORT void FMI_FUNCTION(FreeInstance)(void *c) {
     Instance *in = c;
-    if (in == NULL) return;
+    if (GONE(in)) return;
     states_of_instance_free(in);
     inner.FMI_FUNCTION(FreeInstance)(in->inner);
     finish(in, ST_OK);
-    instance_free_memory(in);
+    instance_bury(in);
 }
 
 EXPORT Status FMI_FUNCTION(SetDebugLogging)(void *c, Boolean on, size_t n,
                                             const char *const categories[]) {
     Instance *in = c;
-    if (in == NULL) return ST_ERROR;
+    if (GONE(in)) return ST_ERROR;
     if (n > 0 && categories == NULL)
         return refuse_null(in, FMI "SetDebugLogging", "categories", n);
     unsigned mask = 0;
@@ -90,7 +105,7 @@ EXPORT Status FMI_FUNCTION(SetDebugLogging)(void *c, Boolean on, size_t n,
 
 EXPORT Status FMI_FUNCTION(Terminate)(void *c) {
     Instance *in = c;
-    if (in == NULL) return ST_ERROR;
+    if (GONE(in)) return ST_ERROR;
     if (in->failed) return ST_OK;            /* allowed after an error: nothing more to do */
     NOT_CONFIGURING(FMI "Terminate");
     return finish(in, inner.FMI_FUNCTION(Terminate)(in->inner));

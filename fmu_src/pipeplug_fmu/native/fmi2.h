@@ -42,6 +42,8 @@ typedef fmi2Boolean Boolean;
 #define FMI_PREFIX fmi2                /* of the calls: FMI_FUNCTION(Reset) is fmi2Reset */
 #define FMI "fmi2"
 #define FMI_TITLE "FMI 2.0"
+#define TOKEN_ARGUMENT "fmuGUID"            /* Instantiate's, checked against TOKEN */
+#define TOKEN_ATTRIBUTE "guid"          /* modelDescription.xml's */
 #define RESOURCE_ARGUMENT "fmuResourceLocation"
 #define RESOURCE_EXAMPLE "file:///path/to/resources"
 #define RESOURCE_SPELLING "the URI of " MODEL "'s resources folder, " RESOURCE_EXAMPLE

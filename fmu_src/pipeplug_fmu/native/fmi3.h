@@ -54,6 +54,8 @@ typedef fmi3Boolean Boolean;
 #define FMI_PREFIX fmi3                /* of the calls: FMI_FUNCTION(Reset) is fmi3Reset */
 #define FMI "fmi3"
 #define FMI_TITLE "FMI 3.0"
+#define TOKEN_ARGUMENT "instantiationToken"            /* Instantiate's, checked against TOKEN */
+#define TOKEN_ATTRIBUTE "instantiationToken"          /* modelDescription.xml's */
 #define RESOURCE_ARGUMENT "resourcePath"
 #define RESOURCE_EXAMPLE "/path/to/resources/"
 #define RESOURCE_SPELLING "the absolute path of " MODEL "'s resources folder, " RESOURCE_EXAMPLE

@@ -36,6 +36,8 @@
  *   NULL arrays of n > 0 elements, NULL pointers for results, unknown FMU states and malformed
  *   serialized ones (states.c). A String value that is not UTF-8 reaches the slave as NOT_UTF8
  *   and its bytes in hex, so that the slave refuses it naming the variable.
+ * - An fmuGUID that is not this build's (the host read another modelDescription.xml) is
+ *   refused like them; a call through an instance already freed returns fmi2Error (GONE).
  *
  * The exit guard against pythonfmu's double release of its interpreter at exit is in inner.c.
  */
@@ -84,7 +86,7 @@ EXPORT fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String 
     if (functions == NULL) return NULL;
     Text why = {0};
     char uri[MAX_PATH_LENGTH + 64];
-    if (instantiate_refusal(name, type, &why) != 0
+    if (instantiate_refusal(name, type, &why) != 0 || token_refusal(guid, &why) != 0
             || resource_uri(resources, uri, sizeof uri, &why) != 0) {
         early_log(functions, name && utf8_valid(name) ? name : "", &why);
         return NULL;
@@ -131,7 +133,7 @@ EXPORT fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
 
 EXPORT fmi2Status fmi2Reset(fmi2Component c) {
     Instance *in = c;
-    if (in == NULL) return fmi2Error;
+    if (GONE(in)) return fmi2Error;
     in->failed = 0;                          /* finish() sets it again if the reset fails */
     return finish(in, inner.fmi2Reset(in->inner));
 }

@@ -26,6 +26,9 @@
 #ifndef MODEL_IDENTIFIER
 #error "compile with -DMODEL_IDENTIFIER=<the FMU's modelIdentifier>"
 #endif
+#ifndef TOKEN
+#error "compile with -DTOKEN='\"<modelDescription.xml's guid or instantiationToken>\"'"
+#endif
 #define STRING_OF_(x) #x
 #define STRING_OF(x) STRING_OF_(x)
 #define JOINED_(a, b) a##b
@@ -78,6 +81,7 @@ typedef struct Instance {
     int failed;                        /* an Error or Fatal was returned */
     int configuring;                   /* FMI 3.0: in configuration mode */
     int initialized;                   /* FMI 3.0: EnterInitializationMode done (until Reset) */
+    int freed;                         /* FreeInstance done: kept as a marker (below) */
     Line *lines;                       /* logged during the current call */
     size_t n_lines, cap_lines;
 } Instance;
@@ -100,11 +104,17 @@ Status refuse(Instance *in, Text *why);
 Status finish(Instance *in, Status status);
 
 /* Checks of every call and the calls both versions have alike (calls.c) --------------------- */
+/* No instance to call: NULL, or freed. FreeInstance frees all an instance holds but its own
+ * few bytes, which stay marked freed and are never reused: a host that calls an instance it
+ * freed (a second FreeInstance, a getter in its clean-up) is refused with the Error status, or
+ * ignored for FreeInstance, instead of reading freed memory. No line: the logger and its
+ * environment belonged to the freed instance. */
+#define GONE(in) ((in) == NULL || (in)->freed)
 /* The checks before most calls: an instance, not after an error (the calls allowed then, such
  * as fmi2SetFMUstate, check less). */
 #define CHECKED(call) \
     Instance *in = c; \
-    if (in == NULL) return ST_ERROR; \
+    if (GONE(in)) return ST_ERROR; \
     if (in->failed) return refuse_after_error(in, call)
 Status refuse_after_error(Instance *in, const char *call);
 /* Refuse a NULL pointer argument `name` of `call` (an array of n elements when n > 0). */
@@ -113,10 +123,15 @@ Status refuse_null(Instance *in, const char *call, const char *name, size_t n);
 Status refuse_count(Instance *in, const char *call, const char *name, size_t n);
 /* What makes the instance name `name` unusable, as one line in `why`; 0 when it is usable. */
 int name_refusal(const char *name, Text *why);
+/* What makes the host's `token` (fmuGUID, instantiationToken) not this build's, as one line in
+ * `why`; 0 when it is TOKEN, the one in this build's modelDescription.xml. */
+int token_refusal(const char *token, Text *why);
 /* `in` once pythonfmu's instance is made; else NULL, `in` freed. */
 Instance *instance_made(Instance *in);
 /* Free `in` itself, its name and lines (not pythonfmu's instance). */
 void instance_free_memory(Instance *in);
+/* Free what `in` holds (its name and lines), mark it freed and keep its own memory (GONE). */
+void instance_bury(Instance *in);
 
 /* Finding a Python (python.c) -------------------------------------------------------------- */
 /* Make a Python visible to pythonfmu's binary; 0 on success, else one line in `why`. */

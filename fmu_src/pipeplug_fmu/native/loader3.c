@@ -81,6 +81,7 @@ EXPORT fmi3Instance fmi3InstantiateCoSimulation(
     if (in == NULL) return NULL;
     in->environment = env, in->logger = logger;
     if (instantiate_refusal(name, event_mode, n_required, &why) != 0
+            || token_refusal(token, &why) != 0
             || resource_uri(resources, uri, sizeof uri, &why) != 0) {
         refuse(in, &why);
         instance_free_memory(in);
@@ -212,7 +213,7 @@ EXPORT fmi3Status fmi3ExitInitializationMode(fmi3Instance c) {
 
 EXPORT fmi3Status fmi3Reset(fmi3Instance c) {
     Instance *in = c;
-    if (in == NULL) return fmi3Error;
+    if (GONE(in)) return fmi3Error;
     in->failed = 0, in->configuring = 0;     /* finish() sets failed again if the reset fails */
     fmi3Status status = finish(in, inner.fmi3Reset(in->inner));
     if (status <= fmi3Warning) in->initialized = 0;

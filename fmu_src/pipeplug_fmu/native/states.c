@@ -263,7 +263,7 @@ EXPORT Status STATE_GET(void *c, FmuState *state) {
 
 EXPORT Status STATE_SET(void *c, FmuState state) {
     Instance *in = c;
-    if (in == NULL) return ST_ERROR;
+    if (GONE(in)) return ST_ERROR;
     NOT_CONFIGURING(SET_NAME);
     Status status = state_set(in, state);      /* allowed after an error; ends it if it works */
     in->failed = status > ST_WARNING;
@@ -272,7 +272,7 @@ EXPORT Status STATE_SET(void *c, FmuState state) {
 
 EXPORT Status STATE_FREE(void *c, FmuState *state) {
     Instance *in = c;
-    if (in == NULL) return ST_ERROR;
+    if (GONE(in)) return ST_ERROR;
     int failed = in->failed;
     Status status = state_free(in, state);
     in->failed |= failed;                      /* bookkeeping: allowed after an error */

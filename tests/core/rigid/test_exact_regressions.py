@@ -109,6 +109,14 @@ def test_segment_event_is_checked_not_hidden(compiled):
         model.advance(23e3, 1.0)
 
 
+def test_a_step_beyond_float_range_is_an_overflow_not_a_missed_event(compiled):
+    """23 kN for 1e300 s takes the pipe past any float: an OverflowError (which the FMU refuses
+    naming Q and the step), never a RuntimeError about a segment event."""
+    model = RigidExact(Params(tau1=2e4, tau2=1e4), Options(), compiled)
+    with pytest.raises(OverflowError, match="U1 = inf m"):
+        model.advance(23e3, 1e300)
+
+
 def test_breakaway_does_not_stick_again_at_once(compiled):
     """After a breakaway the relative velocity and acceleration are both zero; round-off in
     the relative acceleration made the next piece find a stick at once on some grids, and the
