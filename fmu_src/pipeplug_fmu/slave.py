@@ -33,7 +33,7 @@ import re
 import warnings
 
 from . import pipeplug as core
-from .base import Discard, FmiBase, Refuse, conformity
+from .base import Discard, FmiBase, Phase, Refuse, conformity
 from .fmi import DEFAULT_EXPERIMENT, DESCRIPTION, INPUTS, refusal
 
 for _module in pkgutil.walk_packages(core.__path__, core.__name__ + "."):
@@ -107,7 +107,13 @@ class PipePlugSlave(FmiBase):
             for p in core.interface.PROFILES)
 
     def _refresh(self) -> None:
-        """The profile arrays take the length of profile_points as it is set (zeros)."""
+        """The profile arrays take the length of profile_points as it is set (zeros); once the
+        model is built (fmi2ExitInitializationMode), the outputs are its own at the start (the
+        plug's length, at rest), not the registered zeros a host would record at t0."""
+        if self._model is not None and self._phase is Phase.STEPPING:
+            for (table, vr), value in zip(self._output_slots, self._outputs_of(self._model)):
+                table[vr] = value
+            return
         if self.ARRAYS:
             n = self._tables["UInt64"][self._points]
             if len(self._reals[self._profile_vrs[0]]) != n and self._model is None:
@@ -162,6 +168,10 @@ class PipePlugSlave(FmiBase):
                                          f"model computes in finite numbers (it overflowed: "
                                          f"{exc}); set a saved FMU state or reset")) from None
         self._strikes_seen, self._cleanouts_seen = strikes, cleanouts
+        return self._outputs_of(model)
+
+    def _outputs_of(self, model) -> tuple:
+        """The outputs in registration order: the contract's, then the profiles (FMI 3.0)."""
         if self.ARRAYS:
             return (*model.outputs(), *(a.tolist() for a in model.profiles()))
         return model.outputs()

@@ -17,6 +17,7 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import zipfile
 from pathlib import Path
 
 from pipeplug_harness.errors import RunFailed, UserError
@@ -120,13 +121,33 @@ def find_fmu(given=None, name: str = "PipePlug.fmu", fmi: int = 2) -> Path:
     Raises
     ------
     UserError
-        When ``given`` does not exist, or ``fmi`` is not one of :data:`FMI_VERSIONS`.
+        When ``given`` does not exist, cannot be read or is not an FMU, or ``fmi`` is not one
+        of :data:`FMI_VERSIONS`.
     """
     if fmi not in FMI_VERSIONS:
         raise UserError(key="--fmi", value=fmi, allowed=", ".join(map(str, FMI_VERSIONS)))
     if given is not None:
-        path = Path(given)
-        if not path.exists():
-            raise UserError("no such FMU file or folder", file=path)
-        return path
+        return _an_fmu(Path(given))
     return (cached_build().parent / _FMI_FOLDER[fmi] / name).resolve()
+
+
+def _an_fmu(path: Path) -> Path:
+    """``path`` if it is an FMU (a zip, or an unpacked folder, holding modelDescription.xml),
+    checked before any run: a command given another file refuses it at once, never counts it
+    as a failing case of its run."""
+    try:
+        if path.is_dir():
+            held = (path / "modelDescription.xml").is_file()
+        else:
+            with zipfile.ZipFile(path) as archive:
+                held = "modelDescription.xml" in archive.namelist()
+    except FileNotFoundError:
+        raise UserError("no such FMU file or folder", file=path) from None
+    except OSError as exc:                         # a folder or file the user may not read
+        raise UserError(f"cannot be read ({exc.strerror})", file=path) from None
+    except zipfile.BadZipFile:
+        held = False
+    if not held:
+        raise UserError("not an FMU: allowed: an FMU file (a zip holding modelDescription.xml) "
+                        "or its unpacked folder", file=path)
+    return path

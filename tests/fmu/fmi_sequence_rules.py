@@ -223,6 +223,7 @@ class FmiRules(RuleBasedStateMachine):
         else:
             self.expect(answer, inst, OK)
             inst.phase, inst.mirror = "run", mirror_model(inst.given)
+            inst.outputs = inst.mirror.outputs()._asdict()   # the model's own from now on
 
     @rule(ident=instances, given=VALID_START, stop=st.sampled_from([None, None, 0.1]))
     def start_running(self, ident, given, stop):

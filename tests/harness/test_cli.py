@@ -55,10 +55,16 @@ def test_version(tmp_path):
     (("fuzz", "--replay", "/dev/zero"), ["not a fuzz case file"]),
     (("fuzz", "--seed", "-1"), ["--seed = -1; allowed: >= 0"]),
     (("validate", "--random", "100000000"), ["--limit memory="]),
+    # a file that is not an FMU was counted as a failing fuzz case (exit 1)
+    (("fuzz", "--fmu", "s.toml", "--cases", "5"), ["s.toml: not an FMU"]),
+    (("scene", "s.toml", "--fmu", "."), [": not an FMU"]),
+    (("fuzz", "--paths", "", "--cases", "5"), ["--paths = ''; allowed: python, compiled"]),
+    (("fuzz", "--no-fmu", "--fmu", "x.fmu"), ["--fmu = 'x.fmu'; allowed: none with --no-fmu"]),
 ])
 def test_every_mistake_is_one_line_with_exit_code_2(tmp_path, args, words):
     (tmp_path / "s.toml").write_text(SCENE)
     _one_line(_run(tmp_path, *args), 2, words)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]      # nothing written
 
 
 def test_an_output_folder_that_is_a_file_or_someone_elses_is_refused(tmp_path, fmu_file):

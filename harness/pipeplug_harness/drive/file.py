@@ -49,9 +49,10 @@ from pathlib import Path
 from typing import NamedTuple
 
 from pipeplug_harness import spec as files
+from pipeplug_harness.core_check import check_with_core
+from pipeplug_harness.core_check import params_of as _params
 from pipeplug_harness.errors import UserError
 from pipeplug_harness.limits import Limits
-from pipeplug_harness.session import split_start_values
 
 __all__ = ["DriveSpec", "Hammer", "Cleanouts", "DEFAULT_REFUSAL", "GRID_CELLS", "load_drive", "drive_spec",
            "check_with_core", "grid_for"]
@@ -332,31 +333,3 @@ def _cleanouts(drive: dict) -> Cleanouts | None:
     if at is None and blows is None:
         return None
     return Cleanouts("penetration", at) if at is not None else Cleanouts("blow", blows)
-
-
-def check_with_core(start_values: dict):
-    """Build the core model from the start values, as the FMU does at initialization, so that
-    every parameter and option is checked by the core's own rules before a run.
-
-    Returns
-    -------
-    Params
-        The validated parameters.
-
-    Raises
-    ------
-    pipeplug.ParameterError
-        Naming the offending parameter or option, its value and the allowed range.
-    """
-    from pipeplug import build_model
-    from pipeplug.options import Options
-    options = Options.from_mapping(split_start_values(start_values)[1])
-    params = _params(start_values)
-    build_model(params, options)
-    return params
-
-
-def _params(start_values: dict):
-    """The core's Params from start values (options left out), not yet validated."""
-    from pipeplug.params import Params
-    return Params.from_mapping(split_start_values(start_values)[0])

@@ -66,7 +66,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def main(args: argparse.Namespace) -> int:
-    paths = tuple(p for p in (args.paths or ",".join(CORE_PATHS)).split(",") if p)
+    given = args.paths if args.paths is not None else ",".join(CORE_PATHS)
+    paths = tuple(p for p in given.split(",") if p)          # --paths '' names none: refused
     unknown = [p for p in paths if p not in CORE_PATHS]
     if unknown or not paths:
         raise UserError(key="--paths", value=args.paths, allowed=", ".join(CORE_PATHS))
@@ -76,15 +77,19 @@ def main(args: argparse.Namespace) -> int:
             raise UserError(key=f"--{flag.replace('_', '-')}", value=value,
                             allowed=">= 1" if flag in ("cases", "workers") else ">= 0")
     args.limits.check("cases", args.cases, f"--cases {args.cases}")
+    if args.no_fmu and args.fmu is not None:
+        raise UserError(key="--fmu", value=args.fmu, allowed="none with --no-fmu (which runs no "
+                                                          "case through an FMU)")
     if args.replay:
         return replay(args.replay, Setup(paths), paths_given=args.paths is not None,
                       fmu=lambda: _fmu(args))
+    plan = Plan(args.reference_every, 0 if args.no_fmu else args.fmu_every, args.fd_every,
+                args.model)
+    # the FMU found (or refused) before the output folder is touched
+    setup = Setup(paths, fmu=_fmu(args) if plan.fmu and not args.fit_fd_constant else None)
     with io.OutputFolder(args.out, "fuzz") as out:
         if args.fit_fd_constant:
             return fit_fd_constant(args, Setup(paths), out)
-        plan = Plan(args.reference_every, 0 if args.no_fmu else args.fmu_every, args.fd_every,
-                    args.model)
-        setup = Setup(paths, fmu=_fmu(args) if plan.fmu else None)
         indices = range(args.start, args.start + args.cases)
         summary, seconds, workers = _on_dask(args, indices, plan, setup, out)
         shown = tuple(ELASTIC_PATHS) if args.model == "elastic" else paths

@@ -34,9 +34,10 @@ def main(args: argparse.Namespace) -> int:
             csv_path = io.write_csv(out.file(f"{scene.name}.csv"), names,
                                     ([row[n] for n in names] for row in result), units)
             png_path = _plot(out.file(f"{scene.name}.png"), result, scene)
-            peaks = ", ".join(f"max {v} = {result[v].max():.6g}{_unit(v)}"
-                              for v in scene.variables)
-            print(f"  {peaks}\n  wrote {csv_path} and {png_path}", flush=True)
+            # the range, not the max: forces and stresses are signed (a pull, a compression)
+            ranges = ", ".join(f"{v} from {result[v].min():.6g} to {result[v].max():.6g}"
+                               f"{_unit(v)}" for v in scene.variables)
+            print(f"  {ranges}\n  wrote {csv_path} and {png_path}", flush=True)
     return 0
 
 

@@ -21,8 +21,9 @@
     allow = []
 
 Values are SI numbers or strings with units. Unknown sections, keys or values, missing required
-sections or keys, and implausible values are errors naming the file, the key, the value and what
-is allowed. The blows follow the Hammer FMU's rules (:mod:`pipeplug_harness.spec.blows`).
+sections or keys, implausible values and values the core refuses (L2 > L1, say) are errors
+naming the file, the key, the value and what is allowed, before any output is written. The
+blows follow the Hammer FMU's rules (:mod:`pipeplug_harness.spec.blows`).
 """
 from __future__ import annotations
 
@@ -30,7 +31,9 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
+from pipeplug.params import ParameterError
 from pipeplug_harness import spec
+from pipeplug_harness.core_check import check_with_core
 from pipeplug_harness.errors import UserError
 from pipeplug_harness.limits import Limits
 from pipeplug_harness.load import Load
@@ -106,6 +109,10 @@ def scene_of(name: str, values: dict, limits: Limits) -> Scene:
     elastic, reason = spec.elastic_choice(values.pop("elastic"), values, duration)
     start_values = {k: v for k, v in values.items() if v is not None}
     start_values["elastic"] = elastic
+    try:                  # the core's own rules now, not the FMU's refusal after the folder
+        check_with_core(start_values)
+    except ParameterError as exc:
+        raise UserError(str(exc)) from None
     if elastic:
         _bound_elastic(start_values, stop, limits)
     return Scene(name, start_values, load, stop, step, list(output["variables"]), reason,
@@ -128,7 +135,7 @@ def _train(blows: dict, hammer: dict):
 
 def _bound_elastic(start_values: dict, stop: float, limits: Limits) -> None:
     """Refuse an elastic run whose cells x internal steps pass the work limit."""
-    from pipeplug.params import ParameterError, Params
+    from pipeplug.params import Params
     try:
         p = Params.from_mapping(split_start_values(start_values)[0])
     except ParameterError as exc:

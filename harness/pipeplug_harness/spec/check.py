@@ -136,6 +136,10 @@ def _typed(where: str, value, spec: Key):
         if unknown:
             raise UserError(f"{where}: unknown names {unknown}; allowed: "
                             f"{', '.join(spec.choices)}")
+        if spec.choices and (not value or len(set(value)) < len(value)):
+            # a choice of outputs: a run recording nothing, or a column twice, is a slip
+            raise UserError(key=where, value=value, allowed="one or more names, each once, of "
+                                                            + ", ".join(spec.choices))
         return tuple(value)
     raise UserError(key=where, value=value, allowed=KINDS_OF_VALUE.get(kind, kind))
 

@@ -44,6 +44,9 @@ def elastic_choice(choice, values: dict, duration: float) -> tuple[bool, str]:
             raise UserError(key=where, value=getattr(p, name),
                             allowed='> 0 (elastic = "auto" needs the wave speed)')
     round_trip = 2.0 * p.L1 / math.sqrt(p.E1 / p.rho1)
+    if duration == 0.0:                   # a ram striking the head directly: no cushion
+        return True, (f"auto: a direct strike (no cushion) loads the head at once, within any "
+                      f"wave round trip 2 L1/c1 = {round_trip:.3g} s -> elastic model")
     ratio = duration / round_trip
     rigid = ratio >= AUTO_RATIO
     verdict = "rigid" if rigid else "elastic"

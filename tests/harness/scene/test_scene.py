@@ -2,6 +2,7 @@
 rules, the auto choice, and a run through the FMU."""
 import csv
 import math
+import re
 from pathlib import Path
 
 import numpy as np
@@ -277,3 +278,42 @@ def test_end_resistance_keys_in_units(tmp_path):
     with pytest.raises(UserError, match=r"\[soil\] q_face = '12 MN'; allowed: a quantity of "
                                         r"the dimension of Pa"):
         load_scene(_write(tmp_path, text.replace("12 MPa", "12 MN") + BLOW))
+
+
+@pytest.mark.parametrize("text, match", [
+    # each of these made the output folder and then failed in the FMU with "internal error"
+    (BASE.replace("L2 = 1.0", "L2 = 2.0") + BLOW, r"L2 = 2.0 is not allowed; allowed: .*<= L1"),
+    (BASE.replace("L1 = 1.0", 'L1 = "1 ft"') + BLOW, r"L2 = 1.0 is not allowed.*L1 = 0.3047"),
+    (BASE + BLOW + "[output]\nvariables = []\n", r"\[output\] variables = \[\]; allowed: one or"),
+    (BASE + BLOW + '[output]\nvariables = ["v_pipe", "v_pipe"]\n', r"each once"),
+])
+def test_values_the_core_refuses_are_mistakes_before_any_output(pipeplug_cli, fmu_file,
+                                                                tmp_path, text, match):
+    _write(tmp_path, text)
+    proc = pipeplug_cli("scene", "s.toml", "--fmu", fmu_file, "--out", "o", check=False)
+    assert proc.returncode == 2, (proc.stdout, proc.stderr)
+    assert len(proc.stderr.strip().splitlines()) == 1 and re.search(match, proc.stderr)
+    assert "s.toml" in proc.stderr and not (tmp_path / "o").exists()
+
+
+def test_a_direct_strike_is_elastic_by_the_contact_not_a_zero_blow(tmp_path):
+    """A ram on the head without a cushion: "auto" said "blow 0 s = 0 x the wave round trip"."""
+    text = BASE + ('[hammer]\nrated_energy = "1 kJ"\nram_mass = "100 kg"\nrate = "60 /min"\n'
+                   "count = 1\n[output]\nstop_time = 0.05\n")
+    scene = load_scene(_write(tmp_path, text))
+    assert scene.start_values["elastic"] is True
+    assert "direct strike" in scene.reason and "0 x" not in scene.reason
+
+
+def test_the_run_starts_from_the_model_s_own_outputs(pipeplug_cli, fmu_file, tmp_path):
+    """The row at t = 0 is the model's state after initialization: the plug's length, at rest
+    (it held the FMU's registered zeros: L2_now = 0 and at_rest = 0); the summary gives each
+    output's range, a signed force's minimum included."""
+    _write(tmp_path, BASE.replace("tau1 = 0.0", "tau1 = 2.0e4").replace("L2 = 1.0", "L2 = 0.5")
+           + BLOW + '[output]\nstop_time = 0.1\nvariables = ["L2_now", "at_rest", "F_outer"]\n')
+    proc = pipeplug_cli("scene", "s.toml", "--fmu", fmu_file, "--out", "o")
+    rows = list(csv.DictReader(open(tmp_path / "o" / "s.csv")))
+    assert rows[0]["time [s]"] == "0.0" and rows[0]["L2_now [m]"] == "0.5"
+    assert rows[0]["at_rest"] == "1" and rows[1]["at_rest"] == "0"
+    lowest = min(float(r["F_outer [N]"]) for r in rows)
+    assert lowest < 0.0 and f"F_outer from {lowest:.6g} to" in proc.stdout
