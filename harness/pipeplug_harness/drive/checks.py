@@ -16,6 +16,13 @@ After each blow (its whole window, to the next blow's start):
   elastic model, ``4 v``;
 * the front end has not gone back past the start by more than the pipe's elastic shortening
   under the blow, ``Q L1 / (E1 S1)`` (0 in the rigid models): blows push.
+* the pipe has not run in beyond its length: the blow has not pushed the front end past
+  ``L1`` by more than the pipe's elastic shortening under it (the head would be below the soil
+  face while the hammer still drives it: the hammer cannot follow it into the ground), and a
+  front end past ``L1`` has come to rest by the next blow's start (else the soil does not hold
+  it and the model cannot give where it ends). A pipe that coasts past ``L1`` after its blow
+  and is stopped by the soil is a result: the blow that reaches a target of ``L1`` may end past
+  it (the summary says by how much).
 
 A violation raises :class:`DriveInvalid` with one line naming the blow and the numbers.
 """
@@ -53,6 +60,10 @@ class Limits:
 
     strike: float = 0.0    #: the ram's velocity at a strike [m/s] (0: no hammer)
     ram_mass: float = 0.0  #: [kg]
+    L1: float = math.inf   #: the pipe's length [m]
+    holding: float = 0.0   #: what the soil holds the pipe (and the plug in it) back with at
+                           #: full length: friction over L1 and the end resistances [N] (the
+                           #: plug's friction acts between pipe and plug, and holds neither)
 
     @classmethod
     def of(cls, spec) -> Limits:
@@ -68,8 +79,13 @@ class Limits:
         else:
             h = p.dt if spec.start_values.get("solver") == "fd" else 0.0
             Z1, rebound = math.inf, 0.0
-        return cls(p.M1, Z1, p.P1 * p.L1 * p.tau1, p.F2 if plug else 0.0, spec.amplitude,
-                   spec.duration, rebound, h, v, p.ram_mass)
+        F1, F2 = p.P1 * p.L1 * p.tau1, p.F2 if plug else 0.0
+        # the plug's face (of a plug that may grow from empty too) pushes the soil ahead
+        grows = spec.start_values.get("plug_growth", False)
+        face = p.q_face * p.S1 + (p.q_plug_face * p.S2 if p.tau2 > 0.0 and (p.L2 > 0.0 or grows)
+                                  else 0.0)
+        return cls(p.M1, Z1, F1, F2, spec.amplitude, spec.duration, rebound, h, v, p.ram_mass,
+                   p.L1, F1 + face)
 
     def velocity_bound(self, blows: int) -> float:
         """The largest pipe velocity [m/s] ``blows`` blows can give (module docstring), with
@@ -86,9 +102,11 @@ class Limits:
                 + struck) * (1.0 + _SLACK)
 
 
-def check_blow(limits: Limits, blow, out, t: float, steps: int) -> None:
+def check_blow(limits: Limits, blow, out, t: float, steps: int,
+               pushed: float = -math.inf) -> None:
     """Check blow ``blow`` (its record) and the outputs ``out`` at its window's end ``t`` [s]
-    (``steps`` communication steps so far: the exact solver's count of pieces at least).
+    (``steps`` communication steps so far: the exact solver's count of pieces at least;
+    ``pushed`` the penetration [m] when the blow stopped acting).
 
     Raises
     ------
@@ -115,6 +133,22 @@ def check_blow(limits: Limits, blow, out, t: float, steps: int) -> None:
     if not max(abs(blow.v_pipe_peak), abs(blow.v_pipe_end)) <= bound:
         raise DriveInvalid(f"blow {n}: pipe velocity {blow.v_pipe_peak:.6g} m/s exceeds what "
                            f"{n} blows can give it, {bound:.6g} m/s")
+    if pushed > limits.L1 + limits.rebound * (1.0 + _SLACK):
+        raise DriveInvalid(f"blow {n}: the pipe ran in beyond its length while the blow drove "
+                           f"it: penetration {pushed:.6g} m when the blow stopped acting, past "
+                           f"L1 = {limits.L1:.6g} m by more than the pipe's elastic shortening "
+                           f"({limits.rebound:.3g} m): its head was below the soil face, where "
+                           f"the hammer cannot follow; a target short of L1 ends the drive "
+                           f"before")
+    if blow.penetration > limits.L1 and blow.settled == "moving":
+        why = ("nothing in the soil holds it: no shaft friction and no end resistance (tau1 "
+               "= q_face = q_plug_face = 0)" if limits.holding == 0.0 else
+               f"the soil's hold on the whole pipe, {limits.holding:.4g} N, did not stop it "
+               f"before the next blow")
+        raise DriveInvalid(f"blow {n}: the pipe ran in beyond its length: penetration "
+                           f"{blow.penetration:.6g} m > L1 = {limits.L1:.6g} m (its head "
+                           f"{blow.penetration - limits.L1:.4g} m below the soil face), still "
+                           f"moving at {blow.v_pipe_end:.4g} m/s; {why}")
     if not blow.penetration >= -limits.rebound * (1.0 + _SLACK):
         raise DriveInvalid(f"blow {n}: penetration {blow.penetration:.6g} m, below the pipe's "
                            f"elastic rebound -{limits.rebound:.3g} m: blows push the pipe in")

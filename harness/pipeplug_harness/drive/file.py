@@ -36,8 +36,9 @@ a ``[drive]`` section::
                             #     the FMU's input cleanouts rises by one there (an FMU without
                             #     that input refuses the drive)
 
-A set threshold of 0 leaves only the other refusal: a blow that does not move the front end at
-all (static friction holds it). Unknown sections, keys or values are errors naming the allowed
+``refusal_set = 0`` turns the set refusal off and leaves only the other refusal: a blow that
+does not move the front end at all (static friction holds it); the summary says so.
+``refusal_length`` must be > 0 (refusal_count blows advancing less than 0 m would never refuse). Unknown sections, keys or values are errors naming the allowed
 ones; every parameter is then checked by the core itself (:func:`check_with_core`).
 """
 from __future__ import annotations
@@ -317,9 +318,15 @@ def _refusal(drive: dict) -> tuple[int, float]:
                          "length)")
     if count < 1:
         raise UserError(f"[drive] refusal_count = {count!r}; allowed: >= 1")
-    if not (length >= 0.0 and math.isfinite(length)):
-        raise UserError(f"[drive] refusal length = {length!r} m; allowed: >= 0 "
-                         f"(0: only a blow that does not move the pipe is a refusal)")
+    if per_blow is not None:
+        if not (per_blow >= 0.0 and math.isfinite(per_blow)):
+            raise UserError(f"[drive] refusal_set = {per_blow!r} m; allowed: >= 0 (0: no set "
+                            f"refusal, only a blow that does not move the pipe is one)")
+    elif not (length > 0.0 and math.isfinite(length)):
+        # refusal_count blows advancing "less than 0 m" would never refuse: a set refusal
+        # silently off. refusal_set = 0 is how a file says so.
+        raise UserError(f"[drive] refusal_length = {length!r} m; allowed: > 0 (for no set "
+                        f"refusal, refusal_set = 0)")
     return count, length
 
 

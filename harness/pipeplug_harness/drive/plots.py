@@ -9,7 +9,7 @@ import numpy as np
 from pipeplug_harness import io
 
 from .report import INTERVAL, blows_per_interval
-from .run import IFR_TOL, OUTCOMES, DriveResult
+from .run import IFR_TOL, OUTCOMES, DriveResult, no_plug
 
 __all__ = ["plot_penetration", "plot_drivability", "plot_plug", "describe_blow"]
 
@@ -85,13 +85,17 @@ def _decades(values: np.ndarray) -> float:
 def plot_plug(path: Path, result: DriveResult) -> Path:
     """Against penetration: the plug's length and L2/s; each blow's IFR, coring or plugged;
     each blow's metres per hour at the blow rate and the drive's overall. Ratios that are not
-    defined (no set, s <= 0) are gaps; clean-outs are vertical lines."""
+    defined (no set, s <= 0) are gaps, and so is every plug measure of a drive without a plug;
+    clean-outs are vertical lines."""
     blows = result.blows
     depth = np.array([b.penetration for b in blows])
     fig, (top, mid, low) = io.subplots(3, 1, figsize=(7.5, 7.6), sharex=True)
-    top.plot(depth, [b.L2 for b in blows], color="C1", lw=1.2, label="plug length L2")
+    length = _defined(b.L2 for b in blows)
+    why = no_plug(result.spec)
+    top.plot(depth, length, color="C1", lw=1.2,
+             label=f"no plug ({why})" if why else "plug length L2")
     top.set_ylabel("plug length L2 [m]")
-    top.set_ylim(0.0, 1.15 * max([b.L2 for b in blows] + [1e-3]))
+    top.set_ylim(0.0, 1.15 * max([b.L2 for b in blows if b.L2 is not None] + [1e-3]))
     ratio = top.twinx()
     plr = _defined(b.plr for b in blows)
     ratio.plot(depth, plr, color="C2", lw=1.0, ls="--", label="L2/s")

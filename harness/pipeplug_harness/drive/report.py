@@ -9,10 +9,12 @@ import numpy as np
 
 from pipeplug_harness import io
 
-from .run import IFR_TOL, OUTCOMES, WORKS, Blow, DriveResult
+from .run import IFR_TOL, OUTCOMES, WORKS, Blow, DriveResult, no_plug
 
 __all__ = ["write_csv", "blows_per_interval", "summary", "stresses", "pace", "plug", "INTERVAL", "COLUMNS"]
 
+#: A stress at most this fraction of the drive's largest one is round-off: the summary gives 0.
+ROUND_OFF = 1e-9
 #: Penetration interval of the drivability curve [m].
 INTERVAL = 0.25
 
@@ -69,8 +71,28 @@ def summary(result: DriveResult) -> str:
             f"{rate:.4g} blows/min; {OUTCOMES[result.outcome]}")
     if result.outcome == "set":
         line += f" ({spec.refusal_text()})"
+    elif spec.refusal_length == 0.0 and result.outcome != "target":
+        line += " (no set refusal: refusal_set = 0)"
     return (line + f" at penetration {result.penetration:.6g} m (target {spec.target:.6g} m)"
-            + pace(result) + plug(result) + stresses(result))
+            + _end(result) + pace(result) + plug(result) + stresses(result))
+
+
+def _end(result: DriveResult) -> str:
+    """How the pipe is at the drive's end, where the penetration alone would mislead: still
+    moving (it goes further in after the last blow's window), or past L1 (the pipe went on
+    after its last blow stopped acting, and the soil stopped it: any other pipe past L1 stops
+    the drive, see :mod:`.checks`)."""
+    if not result.blows:
+        return ""
+    last, L1 = result.blows[-1], result.spec.params().L1
+    text = ""
+    if last.penetration > L1:
+        text += (f", {last.penetration - L1:.3g} m past L1 = {L1:.6g} m (the pipe went on "
+                 f"after the last blow, its head below the soil face)")
+    if last.settled == "moving":
+        text += (f", still moving at {last.v_pipe_end:.4g} m/s when the drive stopped (it "
+                 f"comes to rest further in)")
+    return text
 
 
 def pace(result: DriveResult) -> str:
@@ -87,6 +109,9 @@ def plug(result: DriveResult) -> str:
     if not result.blows:
         return ""
     last = result.blows[-1]
+    why = no_plug(result.spec)
+    if why:
+        return f"; no plug ({why})"
     coring = sum(b.plugging == "coring" for b in result.blows)
     text = (f"; plug {last.L2:.4g} m, L2/s {_ratio(last.plr)}, last IFR {_ratio(last.ifr)}"
             f"{f' ({last.plugging})' if last.plugging else ''}, {coring} of "
@@ -105,12 +130,17 @@ def stresses(result: DriveResult) -> str:
     if not result.blows:
         return ""
     spec = result.spec
-    low = min(b.stress_min for b in result.blows)
-    high = max([0.0] + [b.stress_max for b in result.blows])   # no tension: 0, not -0
-    text = (f"; largest stress {-low / 1e6:.4g} MPa compressive, {high / 1e6:.4g} MPa "
+    # magnitudes; no compression or tension: 0, not -0
+    low = max([0.0] + [-b.stress_min for b in result.blows])
+    high = max([0.0] + [b.stress_max for b in result.blows])
+    # a stress that is round-off of the drive's largest one (a rigid pipe's free front end
+    # reads a few ulps of the head's force) is none
+    scale = ROUND_OFF * max(low, high)
+    low, high = (0.0 if low <= scale else low), (0.0 if high <= scale else high)
+    text = (f"; largest stress {low / 1e6:.4g} MPa compressive, {high / 1e6:.4g} MPa "
             f"tensile")
     if spec.yield_stress:
-        worst = max(-low, high) / spec.yield_stress
+        worst = max(low, high) / spec.yield_stress
         text += (f" ({100 * worst:.3g} % of the yield stress {spec.yield_stress / 1e6:.4g} "
                  f"MPa{', EXCEEDED' if worst > 1.0 else ''})")
     if spec.hammer is not None:

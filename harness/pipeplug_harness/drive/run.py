@@ -34,6 +34,8 @@ the model has it, else the fixed L2), the incremental filling ratio IFR = dL2/ds
 (from the length after a clean-out), the plug length ratio L2/s, and whether the soil cores into
 the pipe (IFR > :data:`IFR_TOL`) or the pipe is plugged; a ratio whose denominator is 0 (a blow
 that did not move the pipe; s <= 0) is not defined (``None``), never a number.
+Without a plug (``tau2 = 0``, or ``L2 = 0`` without ``plug_growth``: :func:`no_plug`) none
+of them is defined, and ``plugging`` is :data:`NO_PLUG`.
 
 Stopping (checked after each blow, in this order): the front end has gone in by ``target``;
 the blow did not move the front end at all (its set is exactly 0: static friction held it); the
@@ -54,7 +56,8 @@ from .checks import Limits, check_blow
 from .file import DriveSpec
 
 __all__ = ["Blow", "DriveResult", "run_drive", "run_drive_on_core", "drive_with", "OUTCOMES",
-           "PLUG_LENGTH", "IFR_TOL", "WORKS", "CLEANOUT_INPUT", "check_inputs"]
+           "PLUG_LENGTH", "IFR_TOL", "WORKS", "CLEANOUT_INPUT", "NO_PLUG", "check_inputs",
+           "no_plug"]
 
 #: outcome -> what it means (the summary's words)
 OUTCOMES = {
@@ -72,6 +75,8 @@ CLEANOUT_INPUT, CLEANOUT_LENGTH = "cleanouts", "L2_after_cleanout"
 #: plug's lengths are exact to round-off (a few ulps of L2 over a set of at least 1e-9 of it),
 #: so any growth the model makes shows; a plug that does not grow reads 0 exactly.
 IFR_TOL = 1e-6
+#: the ``plugging`` of every blow of a drive without a plug (:func:`no_plug`)
+NO_PLUG = "no plug"
 #: the works of the ledger reported per blow beside W_input and friction's two parts: every
 #: other work, by the ledger's table (so that the works of effects added later are reported)
 WORKS = tuple(n for n in LEDGER_SOURCES + LEDGER_TERMS
@@ -110,13 +115,16 @@ class Blow:
     stress_max: float         #: most tensile one [Pa]
     enthru: float             #: energy through the head over the window, the integral of
                               #: F_head times the head's velocity (ENTHRU) [J]
-    enthru_share: float       #: ENTHRU over the hammer's rated energy [1] (NaN: no hammer)
+    enthru_share: float | None  #: ENTHRU over the hammer's rated energy [1] (None: not
+                                #: defined, no hammer)
     cleanout: bool            #: the plug was cleaned out at the blow's start
-    L2: float                 #: plug length at the window's end [m]
+    L2: float | None          #: plug length at the window's end [m] (None: no plug)
     ifr: float | None         #: incremental filling ratio dL2/ds over the blow [1] (None: not
-                              #: defined, the blow did not move the pipe)
-    plr: float | None         #: plug length ratio L2/s at the window's end [1] (None: s <= 0)
-    plugging: str             #: "coring" (ifr > IFR_TOL), "plugged", or "" (ifr not defined)
+                              #: defined, the blow did not move the pipe, or no plug)
+    plr: float | None         #: plug length ratio L2/s at the window's end [1] (None: s <= 0,
+                              #: or no plug)
+    plugging: str             #: "coring" (ifr > IFR_TOL), "plugged", "" (ifr not defined) or
+                              #: :data:`NO_PLUG`
     metres_per_hour: float    #: the blow's set at the blow rate: set x blows/min x 60 [m/h]
     works: dict               #: :data:`WORKS` over the window [J] by name
 
@@ -175,9 +183,9 @@ def drive_with(spec: DriveSpec, session: Session, progress=None) -> DriveResult:
     before, plug, done = _ZERO, _Plug.of(spec), 0
     for k in range(spec.max_blows):
         due = spec.cleanouts.passed(k + 1, before.u_pipe) if spec.cleanouts else 0
-        blow, before = _blow(session, spec, k, before, pace, plug, due > done)
+        blow, before, pushed = _blow(session, spec, k, before, pace, plug, due > done)
         done = due
-        check_blow(limits, blow, before, (k + 1) * spec.period, session.steps)
+        check_blow(limits, blow, before, (k + 1) * spec.period, session.steps, pushed)
         result.blows.append(blow)
         if progress is not None:
             progress(blow)
@@ -244,10 +252,24 @@ def check_inputs(spec: DriveSpec, inputs) -> None:
                                 f"{', '.join(sorted(inputs))}")
 
 
-class _Plug:
-    """The plug's length: read from the outputs, or fixed; and where a clean-out leaves it."""
+def no_plug(spec: DriveSpec) -> str:
+    """Why the drive has no plug ("": it has one): ``tau2 = 0`` (no friction couples soil in the
+    pipe to it) or ``L2 = 0`` without ``plug_growth`` (docs/files.md: "tau2 = 0 or L2 = 0: no
+    plug"; a plug that grows may start empty)."""
+    p = spec.params()
+    if not p.tau2 > 0.0:
+        return "tau2 = 0"
+    if not p.L2 > 0.0 and not spec.start_values.get("plug_growth", False):
+        return "L2 = 0"
+    return ""
 
-    def __init__(self, initial: float, after_cleanout: float):
+
+class _Plug:
+    """The plug's length: read from the outputs, or fixed; and where a clean-out leaves it.
+    Without a plug (:func:`no_plug`) every plug measure is not defined."""
+
+    def __init__(self, initial: float, after_cleanout: float, present: bool = True):
+        self.present = present
         self.length = (lambda out: getattr(out, PLUG_LENGTH)) if PLUG_LENGTH in OUTPUT_NAMES \
             else (lambda out: initial)
         self.initial, self.after_cleanout = initial, after_cleanout
@@ -257,11 +279,13 @@ class _Plug:
     def of(cls, spec: DriveSpec) -> _Plug:
         defaults = {p.name: p.default for p in PARAMETERS}
         after = spec.start_values.get(CLEANOUT_LENGTH, defaults.get(CLEANOUT_LENGTH, 0.0))
-        return cls(spec.params().L2, after)
+        return cls(spec.params().L2, after, not no_plug(spec))
 
     def blow(self, out: Outputs, cleaned: bool, moved: float, penetration: float) -> tuple:
         """``(L2, ifr, plr, plugging)`` of a blow ending at ``out`` (the clean-out at its start
         leaves at most ``after_cleanout``)."""
+        if not self.present:
+            return None, None, None, NO_PLUG
         start = min(self.last, self.after_cleanout) if cleaned else self.last
         self.last = length = self.length(out)
         ifr = (length - start) / moved if moved != 0.0 else None
@@ -271,9 +295,10 @@ class _Plug:
 
 
 def _blow(s: Session, spec: DriveSpec, k: int, before: Outputs, pace: _Pace, plug: _Plug,
-          cleaned: bool) -> tuple[Blow, Outputs]:
+          cleaned: bool) -> tuple[Blow, Outputs, float]:
     """Blow ``k`` and the motion after it, up to the next blow's start (the plug cleaned out
-    at its start when ``cleaned``)."""
+    at its start when ``cleaned``); the last value is the penetration [m] when the blow stopped
+    acting (``duration`` after its start)."""
     t0, h, t_next = k * spec.period, pace.step, (k + 1) * spec.period
     steps0 = s.steps
     peaks = [before.v_pipe, before.v_plug, math.inf, -math.inf, math.inf, -math.inf]
@@ -286,6 +311,7 @@ def _blow(s: Session, spec: DriveSpec, k: int, before: Outputs, pace: _Pace, plu
         out = s.step(t, tb - t, spec.amplitude)
         t = tb
         _raise(peaks, out)
+    pushed = out.u_pipe
     settled, motion, still_since, fine_until = "moving", spec.period, None, t + pace.fine
     w_still = 0.0                                     # friction work when the front end stopped
     while t < t_next:
@@ -312,10 +338,10 @@ def _blow(s: Session, spec: DriveSpec, k: int, before: Outputs, pace: _Pace, plu
                 0.0 if still_since is None else _friction(out) - w_still, *peaks[2:],
                 out.E_transferred - before.E_transferred,
                 (out.E_transferred - before.E_transferred) / spec.hammer.rated_energy
-                if spec.hammer is not None else math.nan,
+                if spec.hammer is not None else None,
                 cleaned, *plug.blow(out, cleaned, moved, out.u_pipe), 3600.0 * moved / spec.period,
                 {n: getattr(out, n) - getattr(before, n) for n in WORKS})
-    return blow, out
+    return blow, out, pushed
 
 
 def _friction(out: Outputs) -> float:

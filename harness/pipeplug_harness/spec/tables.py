@@ -165,7 +165,8 @@ SECTIONS: dict[str, dict[str, Key]] = {
                                  strict=False),
         "refusal_count": Key("integer", "1", None, False, (1, 1e4), lower=1,
                              meaning="refusal: this many blows advance less than ..."),
-        "refusal_length": _positive("m", (0.0, 10.0), "... this length in all", strict=False),
+        "refusal_length": _positive("m", (0.0, 10.0), "... this length in all (> 0; for no "
+                                                      "set refusal, refusal_set = 0)"),
         "max_blows": Key("integer", "1", 100_000, False, (1, 1e7), lower=1, meaning="stop after"),
         "step": _positive("s", (1e-8, 10.0), "communication step while a blow acts"),
         "yield_stress": _positive("Pa", (1e6, 5e9), "the pipe's yield stress: the drive "
