@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
-from scipy.special import ndtr, ndtri
+from scipy.special import ndtri
 
 __all__ = ["Dimension", "Distribution", "DISTRIBUTIONS", "GRID_KEYS", "GRID_SCALES",
            "varied_values", "uniforms"]
@@ -39,8 +39,12 @@ class Distribution(NamedTuple):
 
 
 def _truncnormal(u, mean, sd, low, high):
-    a, b = ndtr((low - mean) / sd), ndtr((high - mean) / sd)
-    return np.clip(mean + sd * ndtri(a + u * (b - a)), low, high)
+    """scipy's truncated normal quantile, accurate however far the window lies in a tail (the
+    difference of two normal CDFs, as it was done before, rounds to 0 there: every case at a
+    bound); the clip only keeps the rounding of ``mean + sd x`` inside the window."""
+    from scipy.stats import truncnorm
+    x = truncnorm.ppf(u, (low - mean) / sd, (high - mean) / sd)
+    return np.clip(mean + sd * x, low, high)
 
 
 def _positive(**numbers) -> str:

@@ -94,6 +94,25 @@ def test_each_distribution_is_its_inverse_cdf_of_the_uniforms(dist, frozen):
     assert stats.kstest(got, frozen.cdf).pvalue > 1e-3
 
 
+@pytest.mark.parametrize("mean, sd, low, high", [
+    (7e4, 1e4, 1.5e5, 3e5),          # 8 sd above the mean to 23 sd
+    (7e4, 1e4, 2e5, 3e5),            # 13 sd to 23 sd: every case was at high
+    (-7e4, 1e4, -3e5, -2e5),         # the same in the lower tail
+    (7e4, 1e4, 1.4e5, 1.4001e5),     # a narrow window 7 sd out
+])
+def test_a_truncnormal_far_in_a_tail_follows_its_distribution(mean, sd, low, high):
+    """The difference of two normal CDFs rounded to 0 beyond about 8 sd: samples piled up at
+    a bound. Against scipy.stats.truncnorm's CDF (Kolmogorov-Smirnov at a fixed seed): no
+    sample at or outside a bound, and the sample's mean that of the distribution."""
+    dist = {"dist": "truncnormal", "mean": mean, "sd": sd, "low": low, "high": high}
+    spec = _spec(random={"tau2": dist}, sweep={"samples": 5000, "seed": 11})
+    got = varied_values(spec.dims, "random", 11, 0, 5000)["tau2"]
+    frozen = stats.truncnorm((low - mean) / sd, (high - mean) / sd, loc=mean, scale=sd)
+    assert np.all((got > low) & (got < high))
+    assert stats.kstest(got, frozen.cdf).pvalue > 1e-3
+    assert abs(got.mean() - frozen.mean()) < 5 * frozen.std() / np.sqrt(got.size)
+
+
 def test_the_core_checks_the_corners_before_any_work():
     # L2 <= L1 fails only at the corner L1 = 1, L2 = 1.5 (a linear rule between parameters)
     spec = _spec(grid={"L1": [1.0, 2.0], "L2": [0.5, 1.5]})
