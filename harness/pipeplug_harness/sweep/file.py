@@ -32,7 +32,8 @@ whole drives, same keys and defaults), what varies, and how the run is cut into 
                             # through (default false; the "domains" report always has it)
     [drive]                 # kind = "drive": as in a drive file
 
-Any number key of the base sections can vary (parameters, blow settings, [drive] settings).
+Any number key of the base sections can vary (parameters, blow settings, [drive] settings); a
+varied key is not also given in its base section (an error naming both places).
 Unknown sections, keys or values are errors naming the allowed ones.
 
 How the cases run is chosen once per sweep (:attr:`SweepSpec.runner`): single rigid exact
@@ -181,6 +182,7 @@ def sweep_spec(name: str, raw: dict, limits: Limits | None = None) -> SweepSpec:
             raise UserError(key=f"[{sampling}] {key}", value=value,
                             allowed="a list or a table" if sampling == "grid" else "a table")
     file_kind, nested, default_chunk = KINDS[kind]
+    _fixed_and_varied(raw, file_kind.sections, sampling, varied)
     base = files.checked(raw, file_kind, varied=tuple(varied))
     head = base.pop("sweep")
     report = head["report"]
@@ -209,6 +211,20 @@ def sweep_spec(name: str, raw: dict, limits: Limits | None = None) -> SweepSpec:
                  f"{tasks:.3g} tasks, each carrying the campaign and its {values} grid values,")
     digest = _digest(kind, base, sampling, dims, head["seed"], n_cases, chunk, report)
     return dataclasses.replace(spec, chunk=chunk, digest=digest, runner=runner)
+
+
+def _fixed_and_varied(raw: dict, sections: dict, sampling: str, varied: dict) -> None:
+    """Refuse a key given in a base section and varied too: the varied values would replace
+    the fixed one without a word."""
+    for key in varied:
+        for section, keys in sections.items():
+            given = raw.get(section)
+            if key in keys and isinstance(given, dict) and key in given:
+                raise UserError(f"{key} is both fixed in [{section}] ({key} = {given[key]!r}) "
+                                f"and varied in [{sampling}]; allowed: one of the two (remove "
+                                f"it from [{section}] or from [{sampling}])",
+                                key=f"[{section}] {key}", value=given[key],
+                                allowed=f"not also in [{sampling}]")
 
 
 def _dimension(sampling: str, name: str, value, limits: Limits) -> Dimension:

@@ -20,6 +20,11 @@ def _spec(**raw):
         sections.setdefault(name, {}).update(keys)
     if sections.get("sweep", {}).get("kind") == "drive":
         sections["blows"].pop("count", None)
+    varied = {**sections.get("grid", {}), **sections.get("random", {})}
+    for name in BASE:                   # a varied key's base value is BASE's, not the test's
+        for key in varied:
+            if key in BASE[name] and key not in raw.get(name, {}):
+                sections[name].pop(key)
     return sweep_spec("t", sections)
 
 
@@ -55,6 +60,21 @@ def test_unknown_keys_and_values_name_the_allowed_ones(raw, words):
         _spec(**raw)
     for word in words:
         assert word in str(err.value)
+
+
+@pytest.mark.parametrize("sampling, dist", [
+    ("grid", [1e4, 2e4]), ("random", {"dist": "uniform", "low": 1e4, "high": 2e4})])
+def test_a_key_both_fixed_and_varied_is_refused_naming_both_places(sampling, dist):
+    """[soil] tau1 = 5e4 with tau1 varied: the fixed value was dropped without a word."""
+    raw = {name: dict(keys) for name, keys in BASE.items()}
+    raw["soil"]["tau1"] = 5e4
+    raw[sampling] = {"tau1": dist}
+    raw["sweep"] = {"samples": 3} if sampling == "random" else {}
+    with pytest.raises(UserError) as err:
+        sweep_spec("t", raw)
+    assert str(err.value) == (f"tau1 is both fixed in [soil] (tau1 = 50000.0) and varied in "
+                              f"[{sampling}]; allowed: one of the two (remove it from [soil] "
+                              f"or from [{sampling}])")
 
 
 def test_grid_cases_in_c_order_first_name_slowest():
@@ -189,6 +209,7 @@ def test_a_grid_past_the_memory_limit_is_refused_before_its_values_are_made(monk
 
     monkeypatch.setitem(file.GRID_SCALES, "linear", made)
     raw = {name: dict(keys) for name, keys in BASE.items()}
+    del raw["soil"]["tau1"]
     raw["grid"] = {"tau1": {"start": 0, "stop": 1, "num": 1_000_000_000}}
     with pytest.raises(UserError, match="--limit memory="):
         sweep_spec("t", raw, Limits({"cases": 1e10, "tasks": 1e10}))
@@ -200,6 +221,7 @@ def test_tasks_past_the_memory_limit_are_refused():
     from pipeplug_harness.limits import Limits
 
     raw = {name: dict(keys) for name, keys in BASE.items()}
+    del raw["soil"]["tau1"], raw["plug"]["tau2"]
     raw["grid"] = {"tau1": {"start": 0, "stop": 1, "num": 10_000},
                    "tau2": {"start": 0, "stop": 1, "num": 10_000}}
     raw["sweep"] = {"chunk": 1}
