@@ -36,6 +36,7 @@ class Distribution(NamedTuple):
     keys: tuple          #: its numbers, in order
     inverse: object      #: (u, *numbers) -> values: the inverse of the distribution function
     check: object        #: (*numbers) -> "" or what is wrong
+    unitless: tuple = ()     #: its numbers without the varied key's unit (the others have it)
 
 
 def _truncnormal(u, mean, sd, low, high):
@@ -59,7 +60,7 @@ DISTRIBUTIONS = {
     "normal": Distribution(("mean", "sd"), lambda u, m, s: m + s * ndtri(u),
                            lambda m, s: _positive(sd=s)),
     "lognormal": Distribution(("median", "sigma"), lambda u, med, s: med * np.exp(s * ndtri(u)),
-                              lambda med, s: _positive(median=med, sigma=s)),
+                              lambda med, s: _positive(median=med, sigma=s), ("sigma",)),
     "truncnormal": Distribution(("mean", "sd", "low", "high"), _truncnormal,
                                 lambda m, s, lo, hi: _positive(sd=s) or (
                                     "" if hi > lo else f"needs high > low (got {lo}, {hi})")),

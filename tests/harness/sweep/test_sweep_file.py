@@ -77,6 +77,44 @@ def test_a_key_both_fixed_and_varied_is_refused_naming_both_places(sampling, dis
                               f"or from [{sampling}])")
 
 
+@pytest.mark.parametrize("sampling, varied, expected", [
+    ("grid", {"tau1": ["10 kPa", "20 kPa"]}, [1e4, 2e4]),
+    ("grid", {"tau1": {"start": "0.01 MPa", "stop": 3e4, "num": 3}}, [1e4, 2e4, 3e4]),
+    ("grid", {"L1": ["50 cm", "1 km"]}, [0.5, 1000.0]),
+    ("random", {"tau1": {"dist": "uniform", "low": "10 kPa", "high": "90 kPa"}}, (1e4, 9e4)),
+    ("random", {"tau1": {"dist": "lognormal", "median": "70 kPa", "sigma": 0.2}}, (7e4, 0.2)),
+    ("random", {"tau1": {"dist": "truncnormal", "mean": "70 kPa", "sd": "10 kPa",
+                         "low": "0.05 MPa", "high": 9e4}}, (7e4, 1e4, 5e4, 9e4)),
+])
+def test_varied_values_may_carry_their_unit(sampling, varied, expected):
+    """docs/files.md: a value is SI as a number or a string with its unit, in a sweep's grid
+    and distributions too (they were refused as no finite number)."""
+    spec = _spec(**{sampling: varied}, sweep={"samples": 3} if sampling == "random" else {})
+    (dim,) = spec.dims
+    if sampling == "grid":
+        np.testing.assert_allclose(dim.values, expected, rtol=1e-15)
+    else:
+        np.testing.assert_allclose(dim.args, expected, rtol=1e-15)
+
+
+@pytest.mark.parametrize("sampling, varied, words", [
+    ("grid", {"tau1": ["10 kPa", "20 kg"]}, ["[grid] tau1: 1 = '20 kg'", "dimension of Pa"]),
+    ("grid", {"L1": {"start": "1 m", "stop": "2 s", "num": 2}},
+     ["[grid] L1: stop = '2 s'", "dimension of m"]),
+    ("random", {"tau1": {"dist": "uniform", "low": "10 kPa", "high": "9 m"}},
+     ["[random] tau1: high = '9 m'", "dimension of Pa"]),
+    ("random", {"tau1": {"dist": "lognormal", "median": "70 kPa", "sigma": "0.2 kPa"}},
+     ["[random] tau1: sigma = '0.2 kPa'", "dimension of 1"]),
+    ("random", {"tau1": {"dist": "normal", "mean": "70 kPaa", "sd": 1.0}},
+     ["[random] tau1: mean = '70 kPaa'", "a quantity with its unit"]),
+])
+def test_a_varied_value_of_another_dimension_is_refused(sampling, varied, words):
+    with pytest.raises(UserError) as err:
+        _spec(**{sampling: varied}, sweep={"samples": 3} if sampling == "random" else {})
+    for word in words:
+        assert word in str(err.value)
+
+
 def test_grid_cases_in_c_order_first_name_slowest():
     spec = _spec(grid={"tau2": [1.0, 2.0], "tau1": {"start": 0.0, "stop": 20.0, "num": 3}},
                  sweep={"chunk": 4})
