@@ -54,11 +54,14 @@ from pathlib import Path
 
 import numpy as np
 
+from pipeplug_harness import io
 from pipeplug_harness import spec as files
 from pipeplug_harness.errors import UserError
+from pipeplug_harness.io.files import UNITLESS
 from pipeplug_harness.limits import Limits
 from pipeplug_harness.spec.units import to_si
 
+from .cases import RESULT_UNITS
 from .runners import BATCH_CHUNK, RUNNERS, runner_of
 from .sample import DISTRIBUTIONS, GRID_KEYS, GRID_SCALES, Dimension
 
@@ -126,8 +129,17 @@ class SweepSpec:
 
     def run_chunk(self, c: int):
         """The results of chunk ``c`` (a pyarrow Table, see :mod:`.cases`), by the sweep's
-        runner."""
-        return RUNNERS[self.runner](self, c)
+        runner, each column's unit in its field's metadata (:attr:`units`)."""
+        return io.with_units(RUNNERS[self.runner](self, c), self.units)
+
+    @property
+    def units(self) -> dict:
+        """column -> SI unit of the output's columns: the varied keys' and the results'
+        (none for counts, flags, modes, text and dimensionless values, as in a CSV header)."""
+        sections, where = KINDS[self.kind][0].sections, variables(self.kind)
+        units = {d.name: sections[where[d.name]][d.name].unit for d in self.dims}
+        units.update(RESULT_UNITS[self.kind])
+        return {name: unit for name, unit in units.items() if unit not in UNITLESS}
 
     def case_values(self, varied: dict, i: int) -> dict:
         """The base sections with case ``i`` of ``varied`` (name -> array) put in (a copy)."""
