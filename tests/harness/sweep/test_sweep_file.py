@@ -265,3 +265,31 @@ def test_tasks_past_the_memory_limit_are_refused():
     raw["sweep"] = {"chunk": 1}
     with pytest.raises(UserError, match="--limit memory="):
         sweep_spec("t", raw, Limits({"tasks": 1e9}))
+
+
+def test_a_sample_where_every_drive_refuses_draws_no_empty_legend(tmp_path):
+    """matplotlib warned 'No artists with labels found to put in legend' on stderr."""
+    import warnings
+
+    import pyarrow as pa
+
+    from pipeplug_harness.sweep import drivability
+    table = pa.table({"outcome": ["set"] * 3, "blows": [40, 41, 45],
+                      "penetration": [0.2, 0.3, 0.25], "error": [""] * 3})
+    s = drivability.summarise(table)
+    spec = _spec(sweep={"kind": "drive"}, grid={"tau1": [1.0]}, model={"elastic": False})
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        drivability.plot_blows(tmp_path / "h.png", spec, s)
+    assert (tmp_path / "h.png").stat().st_size > 1000
+
+
+@pytest.mark.parametrize("cases, seconds, rate", [
+    (5, 34.4, "0.145 cases/s"), (3, 1.0, "3 cases/s"), (1234, 100.0, "12.3 cases/s"),
+    (10 ** 6, 2.0, "500,000 cases/s")])
+def test_the_summary_gives_a_rate_of_slow_runs_in_significant_digits(cases, seconds, rate):
+    """A slow run said '0 cases/s'."""
+    from pipeplug_harness.sweep.command import _summary
+    from pipeplug_harness.sweep.engine import ChunkRun
+    run = ChunkRun(chunks=1, written=1, cases=cases, seconds=seconds)
+    assert f": {rate}," in _summary(run, 1, "out")
