@@ -30,7 +30,8 @@ from pipeplug_harness.spec import blow_train, elastic_choice
 
 from .sample import varied_values
 
-__all__ = ["run_chunk", "case_rows", "prepare", "schema", "modes_text", "RESULT_COLUMNS"]
+__all__ = ["run_chunk", "case_rows", "prepare", "schema", "modes_text", "RESULT_COLUMNS",
+           "RESULT_UNITS"]
 
 _ARROW = {"Real": pa.float64(), "Integer": pa.int64(), "Boolean": pa.bool_()}
 
@@ -42,6 +43,12 @@ RESULT_COLUMNS = {
               ("penetration", pa.float64()), ("last_set", pa.float64()),
               ("drive_time", pa.float64()), ("metres_per_hour", pa.float64()),
               ("steps", pa.int64())],
+}
+
+#: kind -> column -> unit of its results (SI; the others have none: counts, flags, modes, text)
+RESULT_UNITS = {
+    "blow": {**{o.name: o.unit for o in OUTPUTS}, "t_end": "s"},
+    "drive": {"penetration": "m", "last_set": "m", "drive_time": "s", "metres_per_hour": "m/h"},
 }
 
 

@@ -75,6 +75,12 @@ def _summary(run, workers: int, out: Path) -> str:
             f"already done, {len(run.failed)} failed; {workers} worker(s); results in {out}")
     if run.cases:
         per_case = run.seconds * workers / run.cases
-        text += (f"\n  wall time {run.seconds:.1f} s: {run.cases / run.seconds:,.0f} cases/s, "
+        text += (f"\n  wall time {run.seconds:.1f} s: {_rate(run.cases / run.seconds)} cases/s, "
                  f"{per_case * 1e3:.3g} ms per case per worker")
     return text
+
+
+def _rate(per_second: float) -> str:
+    """A rate with 3 significant digits (0.145, 12.3), whole and grouped from 100 on
+    (543,210)."""
+    return f"{per_second:,.0f}" if per_second >= 99.95 else f"{per_second:.3g}"

@@ -119,12 +119,12 @@ def plot_blows(path: Path, spec, s: dict) -> Path:
         ax.hist(driven, bins=bins, color="#4c72b0", label=f"target reached ({s['driven']})")
         ax.axvline(s["mean_blows"], color="k", lw=1.2, ls="--",
                    label=f"mean {s['mean_blows']:.2f} +- {s['se_mean_blows']:.2f}")
+        ax.legend(fontsize=8)           # none when no drive reached the target: nothing to name
     ax.set_xlabel("blows to drive")
     ax.set_ylabel("drives")
     fig.suptitle(f"{spec.name}: {s['n']} drives; P(refusal) = {s['p_refusal']:.4f} +- "
                  f"{s['se_refusal']:.4f} (standard error)\n"
                  + "; ".join(_described(d) for d in spec.dims), fontsize=9)
-    ax.legend(fontsize=8)
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
     return io.save_png(fig, path, dpi=fig.dpi)

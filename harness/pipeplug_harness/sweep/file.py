@@ -24,6 +24,7 @@ whole drives, same keys and defaults), what varies, and how the run is cut into 
     tau2 = {dist = "normal", mean = 2e4, sd = 2e3}
     L2 = {dist = "uniform", low = 0.5, high = 1.0}
     # also {dist = "truncnormal", mean, sd, low, high}: a normal cut to [low, high]
+    # every value (but lognormal's sigma) SI, or a string with its unit: low = "10 kPa"
 
     [pipe] [plug] [soil] [blows] [model]        # the base case: as in a scene or drive file
     [output]                # kind = "blow": stop_time [s] (default 100): the run goes on under
@@ -32,7 +33,8 @@ whole drives, same keys and defaults), what varies, and how the run is cut into 
                             # through (default false; the "domains" report always has it)
     [drive]                 # kind = "drive": as in a drive file
 
-Any number key of the base sections can vary (parameters, blow settings, [drive] settings).
+Any number key of the base sections can vary (parameters, blow settings, [drive] settings); a
+varied key is not also given in its base section (an error naming both places).
 Unknown sections, keys or values are errors naming the allowed ones.
 
 How the cases run is chosen once per sweep (:attr:`SweepSpec.runner`): single rigid exact
@@ -52,10 +54,14 @@ from pathlib import Path
 
 import numpy as np
 
+from pipeplug_harness import io
 from pipeplug_harness import spec as files
 from pipeplug_harness.errors import UserError
+from pipeplug_harness.io.files import UNITLESS
 from pipeplug_harness.limits import Limits
+from pipeplug_harness.spec.units import to_si
 
+from .cases import RESULT_UNITS
 from .runners import BATCH_CHUNK, RUNNERS, runner_of
 from .sample import DISTRIBUTIONS, GRID_KEYS, GRID_SCALES, Dimension
 
@@ -123,8 +129,17 @@ class SweepSpec:
 
     def run_chunk(self, c: int):
         """The results of chunk ``c`` (a pyarrow Table, see :mod:`.cases`), by the sweep's
-        runner."""
-        return RUNNERS[self.runner](self, c)
+        runner, each column's unit in its field's metadata (:attr:`units`)."""
+        return io.with_units(RUNNERS[self.runner](self, c), self.units)
+
+    @property
+    def units(self) -> dict:
+        """column -> SI unit of the output's columns: the varied keys' and the results'
+        (none for counts, flags, modes, text and dimensionless values, as in a CSV header)."""
+        sections, where = KINDS[self.kind][0].sections, variables(self.kind)
+        units = {d.name: sections[where[d.name]][d.name].unit for d in self.dims}
+        units.update(RESULT_UNITS[self.kind])
+        return {name: unit for name, unit in units.items() if unit not in UNITLESS}
 
     def case_values(self, varied: dict, i: int) -> dict:
         """The base sections with case ``i`` of ``varied`` (name -> array) put in (a copy)."""
@@ -181,10 +196,13 @@ def sweep_spec(name: str, raw: dict, limits: Limits | None = None) -> SweepSpec:
             raise UserError(key=f"[{sampling}] {key}", value=value,
                             allowed="a list or a table" if sampling == "grid" else "a table")
     file_kind, nested, default_chunk = KINDS[kind]
+    _fixed_and_varied(raw, file_kind.sections, sampling, varied)
     base = files.checked(raw, file_kind, varied=tuple(varied))
     head = base.pop("sweep")
     report = head["report"]
-    dims = tuple(_dimension(sampling, k, varied[k], limits) for k in varied)    # file order
+    units = {k: file_kind.sections[allowed[k]][k].unit for k in varied}
+    dims = tuple(_dimension(sampling, k, varied[k], units[k], limits)
+                 for k in varied)                                               # file order
     if sampling == "grid":
         n_cases = math.prod(len(d.values) for d in dims)
         if head["samples"] is not None:
@@ -211,10 +229,25 @@ def sweep_spec(name: str, raw: dict, limits: Limits | None = None) -> SweepSpec:
     return dataclasses.replace(spec, chunk=chunk, digest=digest, runner=runner)
 
 
-def _dimension(sampling: str, name: str, value, limits: Limits) -> Dimension:
-    """One varied name checked against the grid forms or the distributions table."""
+def _fixed_and_varied(raw: dict, sections: dict, sampling: str, varied: dict) -> None:
+    """Refuse a key given in a base section and varied too: the varied values would replace
+    the fixed one without a word."""
+    for key in varied:
+        for section, keys in sections.items():
+            given = raw.get(section)
+            if key in keys and isinstance(given, dict) and key in given:
+                raise UserError(f"{key} is both fixed in [{section}] ({key} = {given[key]!r}) "
+                                f"and varied in [{sampling}]; allowed: one of the two (remove "
+                                f"it from [{section}] or from [{sampling}])",
+                                key=f"[{section}] {key}", value=given[key],
+                                allowed=f"not also in [{sampling}]")
+
+
+def _dimension(sampling: str, name: str, value, unit: str, limits: Limits) -> Dimension:
+    """One varied name checked against the grid forms or the distributions table (its values
+    SI numbers, or strings with their unit, of the dimension of ``unit``)."""
     if sampling == "grid":
-        return Dimension(name, values=_grid_values(name, value, limits))
+        return Dimension(name, values=_grid_values(name, value, unit, limits))
     dist = value.get("dist")
     if dist not in DISTRIBUTIONS:
         raise UserError(f"[random] {name}: dist = {dist!r}; allowed: {', '.join(DISTRIBUTIONS)}")
@@ -224,24 +257,25 @@ def _dimension(sampling: str, name: str, value, limits: Limits) -> Dimension:
     if unknown or missing:
         raise UserError(f"[random] {name}: {dist} takes {', '.join(keys)} "
                          f"(unknown: {unknown}, missing: {missing})")
-    numbers = tuple(_number(f"[random] {name}", k, value[k]) for k in keys)
+    numbers = tuple(_number(f"[random] {name}", k, value[k],
+                            "1" if k in DISTRIBUTIONS[dist].unitless else unit) for k in keys)
     problem = DISTRIBUTIONS[dist].check(*numbers)
     if problem:
         raise UserError(f"[random] {name}: {dist} {problem}")
     return Dimension(name, dist=dist, args=numbers)
 
 
-def _grid_values(name: str, value, limits: Limits) -> np.ndarray:
+def _grid_values(name: str, value, unit: str, limits: Limits) -> np.ndarray:
     where = f"[grid] {name}"
     if isinstance(value, list):
         if not value:
             raise UserError(f"{where} = []; allowed: a non-empty list of numbers")
-        return np.array([_number(where, str(i), v) for i, v in enumerate(value)])
+        return np.array([_number(where, str(i), v, unit) for i, v in enumerate(value)])
     unknown = sorted(set(value) - set(GRID_KEYS))
     if unknown or not {"start", "stop", "num"} <= set(value):
         raise UserError(f"{where}: a table takes {', '.join(GRID_KEYS)} (start, stop, num "
                          f"required; unknown: {unknown})")
-    start, stop = (_number(where, k, value[k]) for k in ("start", "stop"))
+    start, stop = (_number(where, k, value[k], unit) for k in ("start", "stop"))
     num, scale = value["num"], value.get("scale", "linear")
     if not (isinstance(num, int) and not isinstance(num, bool) and num >= 1):
         raise UserError(f"{where}: num = {num!r}; allowed: an integer >= 1")
@@ -252,9 +286,14 @@ def _grid_values(name: str, value, limits: Limits) -> np.ndarray:
     return GRID_SCALES[scale](start, stop, num, where)
 
 
-def _number(where: str, key: str, value) -> float:
+def _number(where: str, key: str, value, unit: str) -> float:
+    """``value`` in SI: a finite number, or a string with its unit of the dimension of ``unit``
+    (converted by the scene and drive files' parser)."""
+    if isinstance(value, str):
+        return to_si(f"{where}: {key}", value, unit)
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
-        raise UserError(f"{where}: {key} = {value!r}; allowed: a finite number")
+        shown = f" in {unit} or a quantity with its unit" if unit not in ("", "1") else ""
+        raise UserError(f"{where}: {key} = {value!r}; allowed: a finite number{shown}")
     return float(value)
 
 

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
-from scipy.special import ndtr, ndtri
+from scipy.special import ndtri
 
 __all__ = ["Dimension", "Distribution", "DISTRIBUTIONS", "GRID_KEYS", "GRID_SCALES",
            "varied_values", "uniforms"]
@@ -36,11 +36,16 @@ class Distribution(NamedTuple):
     keys: tuple          #: its numbers, in order
     inverse: object      #: (u, *numbers) -> values: the inverse of the distribution function
     check: object        #: (*numbers) -> "" or what is wrong
+    unitless: tuple = ()     #: its numbers without the varied key's unit (the others have it)
 
 
 def _truncnormal(u, mean, sd, low, high):
-    a, b = ndtr((low - mean) / sd), ndtr((high - mean) / sd)
-    return np.clip(mean + sd * ndtri(a + u * (b - a)), low, high)
+    """scipy's truncated normal quantile, accurate however far the window lies in a tail (the
+    difference of two normal CDFs, as it was done before, rounds to 0 there: every case at a
+    bound); the clip only keeps the rounding of ``mean + sd x`` inside the window."""
+    from scipy.stats import truncnorm
+    x = truncnorm.ppf(u, (low - mean) / sd, (high - mean) / sd)
+    return np.clip(mean + sd * x, low, high)
 
 
 def _positive(**numbers) -> str:
@@ -55,7 +60,7 @@ DISTRIBUTIONS = {
     "normal": Distribution(("mean", "sd"), lambda u, m, s: m + s * ndtri(u),
                            lambda m, s: _positive(sd=s)),
     "lognormal": Distribution(("median", "sigma"), lambda u, med, s: med * np.exp(s * ndtri(u)),
-                              lambda med, s: _positive(median=med, sigma=s)),
+                              lambda med, s: _positive(median=med, sigma=s), ("sigma",)),
     "truncnormal": Distribution(("mean", "sd", "low", "high"), _truncnormal,
                                 lambda m, s, lo, hi: _positive(sd=s) or (
                                     "" if hi > lo else f"needs high > low (got {lo}, {hi})")),

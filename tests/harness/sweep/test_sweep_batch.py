@@ -19,8 +19,12 @@ CASE = cf.Case()
 
 
 def _spec(**raw):
+    """A sweep of ``raw``'s sections over REQUIRED's (without its values of the varied keys)."""
     sections = {**REQUIRED, **RIGID, **raw}          # a section given replaces RIGID's
-    return sweep_spec("t", {name: {**REQUIRED.get(name, {}), **keys}
+    varied = {**raw.get("grid", {}), **raw.get("random", {})}
+    sections = {name: {**REQUIRED.get(name, {}), **keys} for name, keys in sections.items()}
+    return sweep_spec("t", {name: {k: v for k, v in keys.items()
+                                   if k not in varied or k in raw.get(name, {})}
                             for name, keys in sections.items()})
 
 
@@ -120,9 +124,9 @@ def test_batch_rows_are_model_I_s_closed_form():
 def test_a_refused_value_gives_the_per_case_rows():
     """A negative tau1 or a blow longer than stop_time: every case of the chunk runs as a
     model of its own, the bad one with its error, the others with their results."""
-    for raw, word in (({"tau1": [2e4, -1.0]}, "tau1 = -1.0"),
-                      ({"duration": [0.05, 2.0]}, "stop_time")):
-        spec = _spec(grid=raw, soil={"tau1": 3e4}, output={"stop_time": 1.0})
+    for raw, soil, word in (({"tau1": [2e4, -1.0]}, {}, "tau1 = -1.0"),
+                            ({"duration": [0.05, 2.0]}, {"tau1": 3e4}, "stop_time")):
+        spec = _spec(grid=raw, soil=soil, output={"stop_time": 1.0})
         assert spec.runner == "batch"
         table = spec.run_chunk(0)
         assert table.equals(_per_case(spec).run_chunk(0))

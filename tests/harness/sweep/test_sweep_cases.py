@@ -16,7 +16,9 @@ TAU_STAR, GAMMA = CASE.tau_star, CASE.gamma
 
 
 def _rows(grid, chunk=1000):
-    spec = sweep_spec("t", {**BASE, "grid": grid, "sweep": {"chunk": chunk}})
+    base = {name: {k: v for k, v in keys.items() if k not in grid} if isinstance(keys, dict)
+            else keys for name, keys in BASE.items()}        # a varied key is not fixed too
+    spec = sweep_spec("t", {**base, "grid": grid, "sweep": {"chunk": chunk}})
     table = spec.run_chunk(0)
     assert table.num_rows == spec.n_cases
     return spec, table

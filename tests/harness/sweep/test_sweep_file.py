@@ -20,6 +20,11 @@ def _spec(**raw):
         sections.setdefault(name, {}).update(keys)
     if sections.get("sweep", {}).get("kind") == "drive":
         sections["blows"].pop("count", None)
+    varied = {**sections.get("grid", {}), **sections.get("random", {})}
+    for name in BASE:                   # a varied key's base value is BASE's, not the test's
+        for key in varied:
+            if key in BASE[name] and key not in raw.get(name, {}):
+                sections[name].pop(key)
     return sweep_spec("t", sections)
 
 
@@ -53,6 +58,59 @@ def _spec(**raw):
 def test_unknown_keys_and_values_name_the_allowed_ones(raw, words):
     with pytest.raises(UserError) as err:
         _spec(**raw)
+    for word in words:
+        assert word in str(err.value)
+
+
+@pytest.mark.parametrize("sampling, dist", [
+    ("grid", [1e4, 2e4]), ("random", {"dist": "uniform", "low": 1e4, "high": 2e4})])
+def test_a_key_both_fixed_and_varied_is_refused_naming_both_places(sampling, dist):
+    """[soil] tau1 = 5e4 with tau1 varied: the fixed value was dropped without a word."""
+    raw = {name: dict(keys) for name, keys in BASE.items()}
+    raw["soil"]["tau1"] = 5e4
+    raw[sampling] = {"tau1": dist}
+    raw["sweep"] = {"samples": 3} if sampling == "random" else {}
+    with pytest.raises(UserError) as err:
+        sweep_spec("t", raw)
+    assert str(err.value) == (f"tau1 is both fixed in [soil] (tau1 = 50000.0) and varied in "
+                              f"[{sampling}]; allowed: one of the two (remove it from [soil] "
+                              f"or from [{sampling}])")
+
+
+@pytest.mark.parametrize("sampling, varied, expected", [
+    ("grid", {"tau1": ["10 kPa", "20 kPa"]}, [1e4, 2e4]),
+    ("grid", {"tau1": {"start": "0.01 MPa", "stop": 3e4, "num": 3}}, [1e4, 2e4, 3e4]),
+    ("grid", {"L1": ["50 cm", "1 km"]}, [0.5, 1000.0]),
+    ("random", {"tau1": {"dist": "uniform", "low": "10 kPa", "high": "90 kPa"}}, (1e4, 9e4)),
+    ("random", {"tau1": {"dist": "lognormal", "median": "70 kPa", "sigma": 0.2}}, (7e4, 0.2)),
+    ("random", {"tau1": {"dist": "truncnormal", "mean": "70 kPa", "sd": "10 kPa",
+                         "low": "0.05 MPa", "high": 9e4}}, (7e4, 1e4, 5e4, 9e4)),
+])
+def test_varied_values_may_carry_their_unit(sampling, varied, expected):
+    """docs/files.md: a value is SI as a number or a string with its unit, in a sweep's grid
+    and distributions too (they were refused as no finite number)."""
+    spec = _spec(**{sampling: varied}, sweep={"samples": 3} if sampling == "random" else {})
+    (dim,) = spec.dims
+    if sampling == "grid":
+        np.testing.assert_allclose(dim.values, expected, rtol=1e-15)
+    else:
+        np.testing.assert_allclose(dim.args, expected, rtol=1e-15)
+
+
+@pytest.mark.parametrize("sampling, varied, words", [
+    ("grid", {"tau1": ["10 kPa", "20 kg"]}, ["[grid] tau1: 1 = '20 kg'", "dimension of Pa"]),
+    ("grid", {"L1": {"start": "1 m", "stop": "2 s", "num": 2}},
+     ["[grid] L1: stop = '2 s'", "dimension of m"]),
+    ("random", {"tau1": {"dist": "uniform", "low": "10 kPa", "high": "9 m"}},
+     ["[random] tau1: high = '9 m'", "dimension of Pa"]),
+    ("random", {"tau1": {"dist": "lognormal", "median": "70 kPa", "sigma": "0.2 kPa"}},
+     ["[random] tau1: sigma = '0.2 kPa'", "dimension of 1"]),
+    ("random", {"tau1": {"dist": "normal", "mean": "70 kPaa", "sd": 1.0}},
+     ["[random] tau1: mean = '70 kPaa'", "a quantity with its unit"]),
+])
+def test_a_varied_value_of_another_dimension_is_refused(sampling, varied, words):
+    with pytest.raises(UserError) as err:
+        _spec(**{sampling: varied}, sweep={"samples": 3} if sampling == "random" else {})
     for word in words:
         assert word in str(err.value)
 
@@ -92,6 +150,25 @@ def test_each_distribution_is_its_inverse_cdf_of_the_uniforms(dist, frozen):
     u = uniforms(3, 0, 20000, 1)[:, 0]
     np.testing.assert_allclose(got, frozen.ppf(u), rtol=1e-9, atol=1e-12)
     assert stats.kstest(got, frozen.cdf).pvalue > 1e-3
+
+
+@pytest.mark.parametrize("mean, sd, low, high", [
+    (7e4, 1e4, 1.5e5, 3e5),          # 8 sd above the mean to 23 sd
+    (7e4, 1e4, 2e5, 3e5),            # 13 sd to 23 sd: every case was at high
+    (-7e4, 1e4, -3e5, -2e5),         # the same in the lower tail
+    (7e4, 1e4, 1.4e5, 1.4001e5),     # a narrow window 7 sd out
+])
+def test_a_truncnormal_far_in_a_tail_follows_its_distribution(mean, sd, low, high):
+    """The difference of two normal CDFs rounded to 0 beyond about 8 sd: samples piled up at
+    a bound. Against scipy.stats.truncnorm's CDF (Kolmogorov-Smirnov at a fixed seed): no
+    sample at or outside a bound, and the sample's mean that of the distribution."""
+    dist = {"dist": "truncnormal", "mean": mean, "sd": sd, "low": low, "high": high}
+    spec = _spec(random={"tau2": dist}, sweep={"samples": 5000, "seed": 11})
+    got = varied_values(spec.dims, "random", 11, 0, 5000)["tau2"]
+    frozen = stats.truncnorm((low - mean) / sd, (high - mean) / sd, loc=mean, scale=sd)
+    assert np.all((got > low) & (got < high))
+    assert stats.kstest(got, frozen.cdf).pvalue > 1e-3
+    assert abs(got.mean() - frozen.mean()) < 5 * frozen.std() / np.sqrt(got.size)
 
 
 def test_the_core_checks_the_corners_before_any_work():
@@ -170,6 +247,7 @@ def test_a_grid_past_the_memory_limit_is_refused_before_its_values_are_made(monk
 
     monkeypatch.setitem(file.GRID_SCALES, "linear", made)
     raw = {name: dict(keys) for name, keys in BASE.items()}
+    del raw["soil"]["tau1"]
     raw["grid"] = {"tau1": {"start": 0, "stop": 1, "num": 1_000_000_000}}
     with pytest.raises(UserError, match="--limit memory="):
         sweep_spec("t", raw, Limits({"cases": 1e10, "tasks": 1e10}))
@@ -181,8 +259,37 @@ def test_tasks_past_the_memory_limit_are_refused():
     from pipeplug_harness.limits import Limits
 
     raw = {name: dict(keys) for name, keys in BASE.items()}
+    del raw["soil"]["tau1"], raw["plug"]["tau2"]
     raw["grid"] = {"tau1": {"start": 0, "stop": 1, "num": 10_000},
                    "tau2": {"start": 0, "stop": 1, "num": 10_000}}
     raw["sweep"] = {"chunk": 1}
     with pytest.raises(UserError, match="--limit memory="):
         sweep_spec("t", raw, Limits({"tasks": 1e9}))
+
+
+def test_a_sample_where_every_drive_refuses_draws_no_empty_legend(tmp_path):
+    """matplotlib warned 'No artists with labels found to put in legend' on stderr."""
+    import warnings
+
+    import pyarrow as pa
+
+    from pipeplug_harness.sweep import drivability
+    table = pa.table({"outcome": ["set"] * 3, "blows": [40, 41, 45],
+                      "penetration": [0.2, 0.3, 0.25], "error": [""] * 3})
+    s = drivability.summarise(table)
+    spec = _spec(sweep={"kind": "drive"}, grid={"tau1": [1.0]}, model={"elastic": False})
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        drivability.plot_blows(tmp_path / "h.png", spec, s)
+    assert (tmp_path / "h.png").stat().st_size > 1000
+
+
+@pytest.mark.parametrize("cases, seconds, rate", [
+    (5, 34.4, "0.145 cases/s"), (3, 1.0, "3 cases/s"), (1234, 100.0, "12.3 cases/s"),
+    (10 ** 6, 2.0, "500,000 cases/s")])
+def test_the_summary_gives_a_rate_of_slow_runs_in_significant_digits(cases, seconds, rate):
+    """A slow run said '0 cases/s'."""
+    from pipeplug_harness.sweep.command import _summary
+    from pipeplug_harness.sweep.engine import ChunkRun
+    run = ChunkRun(chunks=1, written=1, cases=cases, seconds=seconds)
+    assert f": {rate}," in _summary(run, 1, "out")

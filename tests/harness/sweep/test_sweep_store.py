@@ -154,3 +154,48 @@ def test_another_command_into_a_campaigns_folder_keeps_its_record(tmp_path):
     again = ChunkStore(store.folder, "another", 1, fresh=True)
     assert again.parts() == [] and (store.folder / "s.csv").exists()
     again.close()
+
+
+_BLOWS = {"pipe": {"L1": 1.0}, "plug": {"L2": 1.0, "tau2": 1e4},
+          "soil": {"contact_growth": False}, "model": {"elastic": False},
+          "blows": {"amplitude": 23e3}, "grid": {"tau1": ["10 kPa", "20 kPa"],
+                                                   "duration": ["50 ms"]}}
+_DRIVES = {"sweep": {"kind": "drive"}, "pipe": {"L1": 2.0}, "plug": {"L2": 2.0, "tau2": 2e4},
+           "blows": {"amplitude": 23e3, "duration": 0.01, "period": 0.2},
+           "model": {"elastic": False}, "drive": {"target": 0.02, "step": 0.01},
+           "grid": {"tau1": [8e4]}}
+#: units the files must carry (docs/files.md), written out here; the other columns have none
+_BLOW_UNITS = {"tau1": "Pa", "duration": "s", "u_pipe": "m", "u_plug": "m", "v_pipe": "m/s",
+               "v_plug": "m/s", "F_outer": "N", "F_inner": "N", "F_head": "N", "v_ram": "m/s",
+               "stress_head": "Pa", "stress_min": "Pa", "stress_max": "Pa", "L2_now": "m",
+               "t_end": "s", **{w: "J" for w in (
+                   "W_input", "W_friction", "W_friction_outer", "W_friction_inner", "E_kinetic",
+                   "E_strain", "W_numerical", "W_ram", "W_cushion", "E_transferred", "W_face",
+                   "W_damping", "W_accretion", "W_removed")}}
+_DRIVE_UNITS = {"tau1": "Pa", "penetration": "m", "last_set": "m", "drive_time": "s",
+                "metres_per_hour": "m/h"}
+
+
+@pytest.mark.parametrize("raw, runner, units, unitless", [
+    (_BLOWS, "batch", _BLOW_UNITS, {"case", "at_rest", "pipe_mode", "plug_mode", "error"}),
+    ({**_BLOWS, "output": {"modes": True}}, "case", _BLOW_UNITS,
+     {"case", "at_rest", "pipe_mode", "plug_mode", "modes", "error"}),
+    (_DRIVES, "case", _DRIVE_UNITS, {"case", "outcome", "refusal", "blows", "steps", "error"}),
+])
+def test_every_sweep_s_parquet_files_carry_their_units(tmp_path, raw, runner, units, unitless):
+    """Each field's metadata holds its unit, in the file a worker writes and in the one the
+    client writes from the bytes (they were None on every path)."""
+    from pipeplug_harness.sweep.file import sweep_spec
+    spec = sweep_spec("u", raw)
+    assert spec.runner == runner
+    for who, files in (("worker", True), ("client", False)):
+        store = ChunkStore(tmp_path / who, spec.digest, spec.n_chunks)
+        result = _run_stored(spec, 0, store.files if files else None)
+        if not files:
+            store.write(0, result)
+        schema = pq.read_schema(store.path(0))
+        got = {f.name: (f.metadata or {}).get(b"unit", b"").decode() for f in schema}
+        assert {k: u for k, u in got.items() if u} == units
+        assert {k for k, u in got.items() if not u} == unitless
+        assert pq.read_table(store.path(0)).num_rows == spec.n_cases
+        store.close()
