@@ -38,8 +38,9 @@ a ``[drive]`` section::
 
 ``refusal_set = 0`` turns the set refusal off and leaves only the other refusal: a blow that
 does not move the front end at all (static friction holds it); the summary says so.
-``refusal_length`` must be > 0 (refusal_count blows advancing less than 0 m would never refuse). Unknown sections, keys or values are errors naming the allowed
-ones; every parameter is then checked by the core itself (:func:`check_with_core`).
+``refusal_length`` must be > 0 (refusal_count blows advancing less than 0 m would never
+refuse). Unknown sections, keys or values are errors naming the allowed ones; every parameter is
+then checked by the core itself (:func:`check_with_core`).
 """
 from __future__ import annotations
 
