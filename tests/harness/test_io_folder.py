@@ -73,3 +73,16 @@ def test_a_refused_run_keeps_a_lock_file_it_did_not_make(tmp_path):
     with OutputFolder(tmp_path / "o", "scene"):
         with pytest.raises(UserError, match="no other pipeplug command is writing into"):
             OutputFolder(tmp_path / "o", "scene")
+
+
+def test_removing_its_files_removes_the_folders_they_leave_empty_only(tmp_path):
+    with OutputFolder(tmp_path / "o", "fuzz") as out:
+        for sub in ("a", "b"):
+            (tmp_path / "o" / sub).mkdir()
+            out.file(f"{sub}/case.json").write_text("{}")
+        (tmp_path / "o" / "b" / "mine.txt").write_text("the user's")
+        out.remove_owned()
+        assert out.data["files"] == []
+    assert not (tmp_path / "o" / "a").exists()
+    assert (tmp_path / "o" / "b" / "mine.txt").read_text() == "the user's"
+    assert not (tmp_path / "o" / "b" / "case.json").exists()

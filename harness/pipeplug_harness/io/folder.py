@@ -72,6 +72,17 @@ def _check_owner(folder: Path, given, held: dict | None, command: str) -> None:
                                 f"({MANIFEST}): choose another folder")
 
 
+def _remove_if_empty(root: Path, folder: Path) -> None:
+    """Remove ``folder`` and its parents up to ``root`` (excluded) while they are empty: a
+    folder holding anything, the user's or not, stays."""
+    while folder != root and root in folder.parents:
+        try:
+            folder.rmdir()
+        except OSError:
+            return
+        folder = folder.parent
+
+
 class OutputFolder:
     """The output folder of one command run (see the module docstring).
 
@@ -203,12 +214,14 @@ class OutputFolder:
         return [self.path / n for n in self.data["files"] if (self.path / n).exists()]
 
     def remove_owned(self, names=None) -> None:
-        """Remove the files of the manifest (or those of ``names`` it holds); never others."""
+        """Remove the files of the manifest (or those of ``names`` it holds), and the folders
+        inside this one that they leave empty (``failures/``); never others."""
         self.still_mine()
         keep = []
         for name in self.data["files"]:
             if names is None or name in names:
                 (self.path / name).unlink(missing_ok=True)
+                _remove_if_empty(self.path, (self.path / name).parent)
             else:
                 keep.append(name)
         self.data["files"] = keep
