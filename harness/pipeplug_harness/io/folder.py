@@ -21,7 +21,7 @@ from pathlib import Path
 
 from pipeplug_harness.errors import RunFailed, UserError
 
-__all__ = ["OutputFolder", "MANIFEST", "LOCK"]
+__all__ = ["OutputFolder", "MANIFEST", "LOCK", "foreign"]
 
 MANIFEST = "_pipeplug.json"
 LOCK = ".pipeplug.lock"
@@ -81,6 +81,19 @@ def _remove_if_empty(root: Path, folder: Path) -> None:
         except OSError:
             return
         folder = folder.parent
+
+
+def foreign(folder, name: str) -> bool:
+    """Whether ``folder`` holds a file ``name`` that its manifest does not name (one a command
+    must not write over), read without opening the folder: for a check before a run starts."""
+    folder = Path(folder)
+    if not os.path.lexists(folder / name):
+        return False
+    try:
+        held = json.loads((folder / MANIFEST).read_text())
+        return name not in held.get("files", [])
+    except (OSError, ValueError, AttributeError):
+        return True
 
 
 class OutputFolder:
