@@ -82,6 +82,38 @@ def test_an_output_folder_that_is_a_file_or_someone_elses_is_refused(tmp_path, f
     assert (theirs / "s.csv").read_text() == "their results"
 
 
+DRIVE = ("[pipe]\nL1 = 1.0\n[plug]\nL2 = 1.0\ntau2 = 1e4\n[soil]\ntau1 = 2e4\n"
+         "[blows]\namplitude = 23000.0\nduration = 0.01\nperiod = 0.015\n"
+         "[model]\nelastic = false\n[drive]\nmax_blows = 2\n")
+
+
+def _contents(folder: Path) -> dict:
+    return {p.name: p.read_bytes() for p in folder.iterdir()}
+
+
+def test_a_folder_of_another_command_is_refused_and_left_as_it_was(tmp_path, fmu_file):
+    """A drive into a scene's folder exited 0, replaced the scene's CSV, kept its PNG and
+    rewrote the manifest as the drive's."""
+    for kind, text in (("scene", SCENE), ("drive", DRIVE)):      # x.csv from either
+        (tmp_path / kind).mkdir()
+        (tmp_path / kind / "x.toml").write_text(text)
+    proc = _run(tmp_path, "scene", "scene/x.toml", "--fmu", fmu_file, "--out", "o")
+    assert proc.returncode == 0, proc.stderr
+    before = _contents(tmp_path / "o")
+    assert {"x.csv", "x.png", "_pipeplug.json"} <= set(before)
+    _one_line(_run(tmp_path, "drive", "drive/x.toml", "--fmu", fmu_file, "--out", "o"), 2,
+              ["--out = 'o'", "one pipeplug drive wrote", "output of pipeplug scene"])
+    assert _contents(tmp_path / "o") == before
+
+
+def test_a_refused_folder_is_left_exactly_as_it_was(tmp_path, fmu_file):
+    """--out . in a folder of the user's files was refused, but .pipeplug.lock stayed there."""
+    (tmp_path / "s.toml").write_text(SCENE)
+    before = _contents(tmp_path)
+    _one_line(_run(tmp_path, "scene", "s.toml", "--fmu", fmu_file, "--out", "."), 2,
+              ["--out", "holds other files"])
+    assert _contents(tmp_path) == before
+
 def test_without_fmu_the_cached_build_is_used_from_any_folder(tmp_path, fmu_file):
     """dist/PipePlug.fmu relative to the current folder ended in a traceback elsewhere; the
     command now takes the build of its installation from the user's cache, and removes the

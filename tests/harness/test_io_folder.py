@@ -19,3 +19,70 @@ def test_a_file_the_manifest_does_not_name_is_never_written_over(tmp_path):
         assert "x.csv" not in out.data["files"]
     assert (tmp_path / "out" / "x.csv").read_text() == "the user's"
     assert (tmp_path / "out" / "a.csv").read_text() == "second run"
+
+
+@pytest.mark.parametrize("first, second", [("scene", "drive"), ("scene", "sweep"),
+                                           ("sweep", "scene"), ("sweep", "drive")])
+def test_a_folder_holding_another_commands_manifest_is_refused_as_it_is(tmp_path, first, second):
+    """A drive run into a scene's folder replaced the scene's CSV, kept its PNG and rewrote the
+    manifest as the drive's; a scene into a finished sweep's folder broke its dataset."""
+    with OutputFolder(tmp_path / "o", first) as out:
+        out.file("a.csv").write_text("first")
+    before = {p.name: p.read_bytes() for p in (tmp_path / "o").iterdir()}
+    with pytest.raises(UserError) as refused:
+        OutputFolder(tmp_path / "o", second)
+    text = str(refused.value)
+    assert str(tmp_path / "o") in text and f"pipeplug {first}" in text, text
+    assert f"one pipeplug {second} wrote" in text, text
+    assert {p.name: p.read_bytes() for p in (tmp_path / "o").iterdir()} == before
+    with OutputFolder(tmp_path / "o", first) as out:             # its own command: accepted
+        assert out.data["files"] == ["a.csv"]
+
+
+def _refuse(_previous):
+    raise UserError("refused by the command")
+
+
+@pytest.mark.parametrize("why", ["other files", "another command", "accept", "bad manifest"])
+def test_a_refused_run_leaves_no_lock_file_behind(tmp_path, why):
+    """--out . in a folder of the user's files was refused ("holds other files"), but
+    .pipeplug.lock stayed there."""
+    folder = tmp_path / "o"
+    folder.mkdir()
+    if why == "other files":
+        (folder / "mine.txt").write_text("the user's")
+    elif why == "bad manifest":
+        (folder / "_pipeplug.json").write_text("{not json")
+    else:
+        OutputFolder(folder, "scene").release()
+        (folder / ".pipeplug.lock").unlink()            # as a folder copied without it
+    before = {p.name: p.read_bytes() for p in folder.iterdir()}
+    with pytest.raises(UserError):
+        OutputFolder(folder, "drive" if why == "another command" else "scene",
+                     accept=_refuse if why == "accept" else None)
+    assert {p.name: p.read_bytes() for p in folder.iterdir()} == before
+
+
+def test_a_refused_run_keeps_a_lock_file_it_did_not_make(tmp_path):
+    """The lock file of an earlier run is the folder's: a refused run leaves it (and it still
+    locks: a run holding it refuses the next)."""
+    OutputFolder(tmp_path / "o", "scene").release()
+    with pytest.raises(UserError, match="holds the output of pipeplug scene"):
+        OutputFolder(tmp_path / "o", "drive")
+    assert (tmp_path / "o" / ".pipeplug.lock").exists()
+    with OutputFolder(tmp_path / "o", "scene"):
+        with pytest.raises(UserError, match="no other pipeplug command is writing into"):
+            OutputFolder(tmp_path / "o", "scene")
+
+
+def test_removing_its_files_removes_the_folders_they_leave_empty_only(tmp_path):
+    with OutputFolder(tmp_path / "o", "fuzz") as out:
+        for sub in ("a", "b"):
+            (tmp_path / "o" / sub).mkdir()
+            out.file(f"{sub}/case.json").write_text("{}")
+        (tmp_path / "o" / "b" / "mine.txt").write_text("the user's")
+        out.remove_owned()
+        assert out.data["files"] == []
+    assert not (tmp_path / "o" / "a").exists()
+    assert (tmp_path / "o" / "b" / "mine.txt").read_text() == "the user's"
+    assert not (tmp_path / "o" / "b" / "case.json").exists()

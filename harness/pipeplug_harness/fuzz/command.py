@@ -5,7 +5,8 @@ path: invariants on every case, the independent reference on every ``--reference
 the FMU (one instance, hosts stepping t += h and t = k h) on every ``--fmu-every``-th, the
 fd scheme on every ``--fd-every``-th. Prints the summary table (cases, failures by check,
 worst values, time), writes it to ``--out``/summary.txt, saves each failing case as a JSON
-file in ``--out``/failures (replay it with ``--replay FILE``) and exits 1 if any case failed.
+file in ``--out``/failures (replay it with ``--replay FILE``) and exits 1 if any case failed. A
+rerun into the same folder first removes the files the earlier run wrote there (its manifest's).
 ``--fit-fd-constant`` runs the fd check alone on ``--cases`` cases and prints the fit of the
 constant of the fd bound.
 """
@@ -88,6 +89,9 @@ def main(args: argparse.Namespace) -> int:
     # the FMU found (or refused) before the output folder is touched
     setup = Setup(paths, fmu=_fmu(args) if plan.fmu and not args.fit_fd_constant else None)
     with io.OutputFolder(args.out, "fuzz") as out:
+        # A run's files are its summary and failing cases: an earlier run's failure files left
+        # beside them would read as this run's, so they go before this run writes.
+        out.remove_owned()
         if args.fit_fd_constant:
             return fit_fd_constant(args, Setup(paths), out)
         indices = range(args.start, args.start + args.cases)

@@ -1,8 +1,10 @@
 """Output folders that never lose data.
 
 A command writes only into a folder that is new, empty, or holds its manifest ``_pipeplug.json``
-(a folder an earlier ``pipeplug`` command wrote): a non-empty folder without one is refused, so a
-user's own files are never overwritten or removed. The manifest names the files the commands
+(a folder an earlier run of the same ``pipeplug`` command wrote): a non-empty folder without one
+is refused, so a user's own files are never overwritten or removed, and so is a folder holding
+another command's manifest, whose results would be replaced or mixed. A refused run leaves the
+folder as it was (not even a lock file). The manifest names the files the commands
 wrote there (and a campaign's chunk files by their rule); only those are ever replaced or
 removed. While a command runs it holds a lock on the folder (``.pipeplug.lock``, an advisory
 lock the system releases when the process ends, however it ends), so a second command into the
@@ -19,7 +21,7 @@ from pathlib import Path
 
 from pipeplug_harness.errors import RunFailed, UserError
 
-__all__ = ["OutputFolder", "MANIFEST", "LOCK"]
+__all__ = ["OutputFolder", "MANIFEST", "LOCK", "foreign"]
 
 MANIFEST = "_pipeplug.json"
 LOCK = ".pipeplug.lock"
@@ -39,6 +41,59 @@ def _prepared(path: Path) -> Path:
         raise UserError(key="--out", value=str(path),
                         allowed="a folder this user can write into (it is read-only)")
     return path
+
+
+def _lock_file(path: Path):
+    """The lock file at ``path``, opened (made when missing), and whether this call made it."""
+    while True:
+        try:
+            return open(path, "x"), True
+        except FileExistsError:
+            pass
+        try:
+            return open(path, "r+"), False
+        except FileNotFoundError:                # removed in between: make it
+            continue
+
+
+def _check_owner(folder: Path, given, held: dict | None, command: str) -> None:
+    """Refuse a folder (``given``: as the user named it) that holds files without a manifest
+    (someone else's), or the manifest of another command: its files are that command's results
+    (a sweep's dataset, a scene's CSV and PNG), which this one would replace or mix with its
+    own."""
+    if held is None and any(p.name not in _OWN for p in folder.iterdir()):
+        raise UserError(key="--out", value=str(given),
+                        allowed=f"a new or empty folder, or one a pipeplug command wrote "
+                                f"(with {MANIFEST}); this one holds other files")
+    if held is not None and held.get("command") != command:
+        raise UserError(key="--out", value=str(given),
+                        allowed=f"a new or empty folder, or one pipeplug {command} wrote; this "
+                                f"one holds the output of pipeplug {held.get('command')} "
+                                f"({MANIFEST}): choose another folder")
+
+
+def _remove_if_empty(root: Path, folder: Path) -> None:
+    """Remove ``folder`` and its parents up to ``root`` (excluded) while they are empty: a
+    folder holding anything, the user's or not, stays."""
+    while folder != root and root in folder.parents:
+        try:
+            folder.rmdir()
+        except OSError:
+            return
+        folder = folder.parent
+
+
+def foreign(folder, name: str) -> bool:
+    """Whether ``folder`` holds a file ``name`` that its manifest does not name (one a command
+    must not write over), read without opening the folder: for a check before a run starts."""
+    folder = Path(folder)
+    if not os.path.lexists(folder / name):
+        return False
+    try:
+        held = json.loads((folder / MANIFEST).read_text())
+        return name not in held.get("files", [])
+    except (OSError, ValueError, AttributeError):
+        return True
 
 
 class OutputFolder:
@@ -61,27 +116,27 @@ class OutputFolder:
     Raises
     ------
     UserError
-        The path is a file, cannot be created or written, holds files of someone else, or
-        another command holds the folder.
+        The path is a file, cannot be created or written, holds files of someone else or the
+        output of another command, or another command holds the folder.
     """
 
     def __init__(self, path, command: str, about: dict | None = None, accept=None):
         self.path = _prepared(Path(path)).resolve()
         self.token = uuid.uuid4().hex
-        self._lock = self._locked()
-        held = self.manifest()
-        if held is None and any(p.name not in _OWN for p in self.path.iterdir()):
+        self._lock, created = self._locked()
+        try:
+            held = self.manifest()
+            _check_owner(self.path, path, held, command)
+            if accept is not None:
+                accept(held or {})
+        except BaseException:
+            # A refused run leaves the folder as it was: the lock file goes if this run made
+            # it (removed while still locked, so no other run holds that file now).
+            if created:
+                (self.path / LOCK).unlink(missing_ok=True)
             self.release()
-            raise UserError(key="--out", value=str(path),
-                            allowed=f"a new or empty folder, or one a pipeplug command wrote "
-                                    f"(with {MANIFEST}); this one holds other files")
+            raise
         self.previous = held or {}
-        if accept is not None:
-            try:
-                accept(self.previous)
-            except BaseException:
-                self.release()
-                raise
         self.data = {**self.previous, "written_by": "pipeplug", "command": command,
                      "run": self.token, "files": list(self.previous.get("files", [])),
                      **(about or {})}
@@ -89,21 +144,33 @@ class OutputFolder:
 
     # Ownership ---------------------------------------------------------------------------------
     def _locked(self):
-        """An advisory lock on the folder, held until :meth:`release` or the process ends."""
-        fh = open(self.path / LOCK, "a+")
+        """An advisory lock on the folder, held until :meth:`release` or the process ends;
+        and whether this run made the lock file."""
         try:
             import fcntl
         except ImportError:                      # pragma: no cover - not POSIX: no lock
-            return fh
-        try:
-            fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
-        except OSError:
+            fcntl = None
+        while True:
+            fh, created = _lock_file(self.path / LOCK)
+            if fcntl is None:                    # pragma: no cover
+                return fh, created
+            try:
+                fcntl.flock(fh, fcntl.LOCK_EX | fcntl.LOCK_NB)
+            except OSError:
+                fh.close()
+                raise UserError(key="--out", value=str(self.path),
+                                allowed="a folder no other pipeplug command is writing into (one "
+                                        "is running there now: wait for it, or choose another "
+                                        "folder)") from None
+            # A refused run removes the lock file it made: one opened before that removal and
+            # locked after it is no longer the folder's, so lock the folder's file again.
+            try:
+                same = os.stat(self.path / LOCK).st_ino == os.fstat(fh.fileno()).st_ino
+            except FileNotFoundError:
+                same = False
+            if same:
+                return fh, created
             fh.close()
-            raise UserError(key="--out", value=str(self.path),
-                            allowed="a folder no other pipeplug command is writing into (one is "
-                                    "running there now: wait for it, or choose another folder)"
-                            ) from None
-        return fh
 
     def release(self) -> None:
         """Release the folder's lock."""
@@ -160,12 +227,14 @@ class OutputFolder:
         return [self.path / n for n in self.data["files"] if (self.path / n).exists()]
 
     def remove_owned(self, names=None) -> None:
-        """Remove the files of the manifest (or those of ``names`` it holds); never others."""
+        """Remove the files of the manifest (or those of ``names`` it holds), and the folders
+        inside this one that they leave empty (``failures/``); never others."""
         self.still_mine()
         keep = []
         for name in self.data["files"]:
             if names is None or name in names:
                 (self.path / name).unlink(missing_ok=True)
+                _remove_if_empty(self.path, (self.path / name).parent)
             else:
                 keep.append(name)
         self.data["files"] = keep

@@ -3,9 +3,11 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
 from pathlib import Path
 
+from pipeplug_harness import io
 from pipeplug_harness.errors import RunFailed, UserError
 
 from .file import load_sweep
@@ -19,7 +21,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("sweep", help="sweep file (.toml)")
     parser.add_argument("--out", help="output folder, a Parquet dataset (default: "
                                       "out/sweeps/NAME)")
-    parser.add_argument("--figure", help="the report's PNG (default: out/sweeps/NAME.png)")
+    parser.add_argument("--figure", help="the report's PNG (default: _REPORT.png in the output "
+                                         "folder, e.g. _drivability.png)")
     parser.add_argument("--scheduler", help="address of a running Dask scheduler (e.g. "
                                             "tcp://10.0.0.5:8786); default: a LocalCluster "
                                             "on this machine")
@@ -42,9 +45,9 @@ def main(args: argparse.Namespace) -> int:
     except UserError as exc:
         raise exc.in_file(args.sweep) from None
     out = Path(args.out or Path("out/sweeps") / spec.name)
-    figure = Path(args.figure or Path("out/sweeps") / f"{spec.name}.png")
-    if spec.report != "none" and (figure.is_dir() or (figure.exists() and not figure.is_file())):
-        raise UserError(key="--figure", value=str(figure), allowed="a PNG file's path")
+    figure = Path(args.figure) if args.figure else None
+    if spec.report != "none":                      # before the run, not after it
+        _check_figure(figure, out, _default_figure(spec))
     print(f"{spec.name}: {spec.n_cases} {spec.kind} cases ({spec.sampling} over "
           f"{', '.join(d.name for d in spec.dims)}) in {spec.n_chunks} chunks of "
           f"{spec.chunk}; {checked}; {described(spec)}", flush=True)
@@ -63,10 +66,52 @@ def main(args: argparse.Namespace) -> int:
         print(f"  case {row['case']}: {row['error']}", file=sys.stderr)
     if spec.report != "none":
         module = importlib.import_module(_REPORT_MODULES[spec.report])
-        print(module.report(spec, table, figure), flush=True)
+        if figure is not None:
+            print(module.report(spec, table, figure), flush=True)
+        else:
+            with _reopened(out, spec) as folder:
+                print(module.report(spec, table, folder.file(_default_figure(spec))),
+                      flush=True)
     if errors:
         raise RunFailed(f"{len(errors)} case(s) failed (the 'error' column)")
     return 0
+
+
+def _default_figure(spec) -> str:
+    """The report's figure in the output folder: a ``_`` name, which Parquet readers skip, so
+    the folder stays one dataset."""
+    return f"_{spec.report}.png"
+
+
+def _check_figure(figure: Path | None, out: Path, default: str) -> None:
+    """Refuse up front a ``--figure`` path that cannot be written (a folder, a path under a
+    file, a read-only folder), or a default figure's name held by a file of someone else."""
+    if figure is None:
+        if io.foreign(out, default):
+            raise UserError(key="--out", value=str(out),
+                            allowed=f"a folder whose files pipeplug may write: {default} (the "
+                                    f"report's figure) is there and is not one {io.MANIFEST} "
+                                    f"names (move it, choose another folder, or give --figure)")
+        return
+    if figure.is_dir() or (figure.exists() and not figure.is_file()):
+        raise UserError(key="--figure", value=str(figure), allowed="a PNG file's path")
+    parent = next(p for p in figure.parents if p.exists())      # "." at least
+    if not parent.is_dir():
+        raise UserError(key="--figure", value=str(figure),
+                        allowed=f"a PNG file's path in a folder ({parent} is a file)")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise UserError(key="--figure", value=str(figure),
+                        allowed=f"a path this user can write ({parent} is read-only)")
+
+
+def _reopened(out: Path, spec) -> io.OutputFolder:
+    """The campaign's folder, held again (its lock, its manifest) to write the report's figure
+    under the manifest; refused if another campaign took it over since."""
+    def accept(held: dict) -> None:
+        if held.get("campaign") != spec.digest:
+            raise UserError(f"{out.resolve()} holds another campaign now (digest "
+                            f"{held.get('campaign')}): the report's figure is not written there")
+    return io.OutputFolder(out, "sweep", accept=accept)
 
 
 def _summary(run, workers: int, out: Path) -> str:

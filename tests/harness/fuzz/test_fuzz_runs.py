@@ -44,3 +44,23 @@ def test_the_runs_reach_the_promised_counts():
     checks = [generate(seed, i, Plan(10, 20, 400)).checks for seed, cases in RUNS
               for i in range(cases)]
     assert sum("reference" in c for c in checks) >= 300
+
+
+def test_a_rerun_leaves_none_of_the_earlier_runs_failures(pipeplug_cli, tmp_path):
+    """A run into a folder where an earlier run had saved failures/case-0-0.json reported 0
+    failures, yet the old file stayed and the new manifest named it as its own."""
+    import json
+
+    from pipeplug_harness.io import MANIFEST, OutputFolder
+    with OutputFolder(tmp_path / "fx", "fuzz") as earlier:          # as an earlier run left it
+        (tmp_path / "fx" / "failures").mkdir()
+        earlier.file("failures/case-0-0.json").write_text("{}")
+        earlier.file("summary.txt").write_text("1 failing case\n")
+    (tmp_path / "fx" / "failures" / "mine.txt").write_text("the user's")   # never removed
+    proc = pipeplug_cli("fuzz", "--cases", 20, "--no-fmu", "--fd-every", 0, "--out", "fx",
+                        "--workers", 1)
+    assert count(r"failing cases: (\d+)", proc.stdout) == 0
+    assert not (tmp_path / "fx" / "failures" / "case-0-0.json").exists()
+    assert (tmp_path / "fx" / "failures" / "mine.txt").read_text() == "the user's"
+    assert json.loads((tmp_path / "fx" / MANIFEST).read_text())["files"] == ["summary.txt"]
+    assert "--cases 20" in (tmp_path / "fx" / "summary.txt").read_text()

@@ -12,7 +12,7 @@ import pytest
 from pipeplug_harness.errors import RunFailed, UserError
 from pipeplug_harness.io import MANIFEST, OutputFolder, parquet_bytes
 from pipeplug_harness.sweep.engine import _run_stored
-from pipeplug_harness.sweep.store import ChunkFiles, ChunkStore, Written
+from pipeplug_harness.sweep.store import ChunkFiles, ChunkStore, Written, read_folder
 
 
 class Tiny:
@@ -143,17 +143,18 @@ def test_a_refused_campaign_leaves_the_folder_as_it_was(tmp_path):
     again.close()
 
 
-def test_another_command_into_a_campaigns_folder_keeps_its_record(tmp_path):
-    """A command of another kind writing into a campaign's folder keeps the campaign's record in
-    the manifest, so a later campaign afresh still removes the chunk files."""
+def test_another_command_into_a_campaigns_folder_is_refused(tmp_path):
+    """A scene run into a finished campaign's folder was accepted and rewrote the manifest as
+    the scene's, after which the sweep's Parquet dataset no longer read: it is refused, and the
+    campaign's folder stays as it was."""
     store = ChunkStore(tmp_path / "out", Tiny.digest, Tiny.n_chunks)
     _run_stored(Tiny(), 0, store.files)
     store.close()
-    with OutputFolder(store.folder, "scene") as out:
-        out.file("s.csv").write_text("t\n")
-    again = ChunkStore(store.folder, "another", 1, fresh=True)
-    assert again.parts() == [] and (store.folder / "s.csv").exists()
-    again.close()
+    before = {p.name: p.read_bytes() for p in store.folder.iterdir()}
+    with pytest.raises(UserError, match="holds the output of pipeplug sweep"):
+        OutputFolder(store.folder, "scene")
+    assert {p.name: p.read_bytes() for p in store.folder.iterdir()} == before
+    assert read_folder(store.folder).num_rows == 4
 
 
 _BLOWS = {"pipe": {"L1": 1.0}, "plug": {"L2": 1.0, "tau2": 1e4},

@@ -1,0 +1,71 @@
+"""Where ``pipeplug sweep`` draws its report's figure: by default in its output folder under the
+manifest (never over a file it did not write), or at ``--figure``, checked before the run."""
+import json
+
+import pyarrow.parquet as pq
+
+# Four short rigid drives (~3 ms each) over a grid of the outer friction.
+DRIVES = """
+[sweep]
+kind = "drive"
+chunk = 2
+report = "drivability"
+[grid]
+tau1 = [6.0e4, 7.0e4, 8.0e4, 9.0e4]
+[pipe]
+L1 = 2.0
+[plug]
+L2 = 2.0
+tau2 = 2.0e4
+[blows]
+amplitude = 23000.0
+duration = 0.01
+period = 0.2
+[model]
+elastic = false
+[drive]
+target = 1.0
+step = 0.01
+"""
+
+
+def _one_line(proc, words):
+    assert proc.returncode == 2, proc.stdout + proc.stderr
+    lines = proc.stderr.strip().splitlines()
+    assert len(lines) == 1 and "Traceback" not in proc.stderr, proc.stderr
+    for word in words:
+        assert word in lines[0], (word, lines[0])
+
+
+def test_the_default_figure_goes_into_the_output_folder_not_over_a_users_file(
+        pipeplug_cli, tmp_path):
+    """With --out res the figure went to out/sweeps/drives.png, a path outside --out, over the
+    user's file there."""
+    (tmp_path / "drives.toml").write_text(DRIVES)
+    (tmp_path / "out" / "sweeps").mkdir(parents=True)
+    (tmp_path / "out" / "sweeps" / "drives.png").write_text("the user's")
+    for _ in range(2):                                    # a rerun replaces its own figure
+        proc = pipeplug_cli("sweep", "drives.toml", "--out", "res", "--workers", 1,
+                            "--no-progress")
+        assert f"wrote {tmp_path / 'res' / '_drivability.png'}" in proc.stdout, proc.stdout
+    assert (tmp_path / "out" / "sweeps" / "drives.png").read_text() == "the user's"
+    assert sorted(p.name for p in (tmp_path / "out" / "sweeps").iterdir()) == ["drives.png"]
+    assert (tmp_path / "res" / "_drivability.png").read_bytes()[:4] == b"\x89PNG"
+    manifest = json.loads((tmp_path / "res" / "_pipeplug.json").read_text())
+    assert manifest["files"] == ["_drivability.png"] and manifest["command"] == "sweep"
+    assert pq.read_table(tmp_path / "res").num_rows == 4        # still one Parquet dataset
+
+
+def test_a_figure_that_cannot_be_written_is_refused_before_the_run(pipeplug_cli, tmp_path):
+    """--figure drives.toml/x.png ran the whole sweep, then ended in "internal error:
+    FileExistsError", exit 1."""
+    (tmp_path / "drives.toml").write_text(DRIVES)
+    _one_line(pipeplug_cli("sweep", "drives.toml", "--out", "a", "--figure", "drives.toml/x.png",
+                           check=False),
+              ["--figure = 'drives.toml/x.png'", "drives.toml is a file"])
+    (tmp_path / "b").mkdir()
+    (tmp_path / "b" / "_drivability.png").write_text("the user's")
+    _one_line(pipeplug_cli("sweep", "drives.toml", "--out", "b", check=False),
+              ["--out = 'b'", "_drivability.png", "not one _pipeplug.json names"])
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["b", "drives.toml"]  # no run began
+    assert [p.name for p in (tmp_path / "b").iterdir()] == ["_drivability.png"]
