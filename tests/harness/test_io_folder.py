@@ -1,5 +1,8 @@
 """Output folders never lose data: a file of the folder that its manifest does not name is never
 written over."""
+import json
+import os
+
 import pytest
 
 from pipeplug_harness.errors import UserError
@@ -86,3 +89,23 @@ def test_removing_its_files_removes_the_folders_they_leave_empty_only(tmp_path):
     assert not (tmp_path / "o" / "a").exists()
     assert (tmp_path / "o" / "b" / "mine.txt").read_text() == "the user's"
     assert not (tmp_path / "o" / "b" / "case.json").exists()
+
+
+def test_a_manifest_naming_files_outside_its_folder_deletes_none_of_them(tmp_path):
+    """A manifest edited by hand (or by another tool) to name "../x", an absolute path or a file
+    behind a link out of the folder: removing the run's files leaves those alone."""
+    outside = tmp_path / "elsewhere"
+    outside.mkdir()
+    for name in ("x.txt", "y.txt", "z.txt"):
+        (outside / name).write_text("the user's")
+    with OutputFolder(tmp_path / "o", "fuzz") as out:
+        out.file("mine.csv").write_text("t\n")
+    os.symlink(outside, tmp_path / "o" / "link")
+    manifest = tmp_path / "o" / "_pipeplug.json"
+    data = json.loads(manifest.read_text())
+    data["files"] += ["../elsewhere/x.txt", str(outside / "y.txt"), "link/z.txt"]
+    manifest.write_text(json.dumps(data))
+    with OutputFolder(tmp_path / "o", "fuzz") as out:
+        out.remove_owned()
+    assert sorted(p.read_text() for p in outside.iterdir()) == ["the user's"] * 3
+    assert not (tmp_path / "o" / "mine.csv").exists()

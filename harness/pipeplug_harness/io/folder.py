@@ -72,6 +72,15 @@ def _check_owner(folder: Path, given, held: dict | None, command: str) -> None:
                                 f"({MANIFEST}): choose another folder")
 
 
+def _inside(root: Path, name: str) -> bool:
+    """Whether the file ``name`` of a manifest lies inside the folder ``root`` (resolved): not
+    an absolute path, no ``..`` out of it, no folder on the way that links elsewhere."""
+    if Path(name).is_absolute():
+        return False
+    parent = (root / name).parent.resolve()
+    return (parent == root or root in parent.parents) and ".." not in Path(name).parts
+
+
 def _remove_if_empty(root: Path, folder: Path) -> None:
     """Remove ``folder`` and its parents up to ``root`` (excluded) while they are empty: a
     folder holding anything, the user's or not, stays."""
@@ -233,8 +242,9 @@ class OutputFolder:
         keep = []
         for name in self.data["files"]:
             if names is None or name in names:
-                (self.path / name).unlink(missing_ok=True)
-                _remove_if_empty(self.path, (self.path / name).parent)
+                if _inside(self.path, name):   # a manifest edited to "../x" deletes nothing
+                    (self.path / name).unlink(missing_ok=True)
+                    _remove_if_empty(self.path, (self.path / name).parent)
             else:
                 keep.append(name)
         self.data["files"] = keep
