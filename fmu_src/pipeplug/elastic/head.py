@@ -36,7 +36,7 @@ A strike resets the cushion (:func:`start_strike`) and replaces the ram's kineti
 (``W_ram`` gains the new ``m v^2 / 2`` less the old). What the cushion still held, ``R >= 0``
 while it pushes, is lost with it: ``W_cushion`` rises by ``R``. In the one step of pull after
 a separation ``R = F F' / (2 k / e^2) < 0`` (``F > 0`` the last push, ``F' < 0`` the pull; at
-most ``(k / e^2) h^2 dv^2 / 8`` in size, ``m_cell dv^2 / 8`` for a direct strike at Courant 1,
+most ``(k / e^2) h^2 dv^2 / 8`` in size, ``m_cell dv^2 / 8`` for a direct strike (Courant <= 1),
 ``dv`` the closing velocity then, which loads and waves, not the strike, set): the push acted
 over the whole step although the cushion opened within it, so ram and head hold that much more
 kinetic energy than the scheme's energy, and the pull would take it back. The strike cancels
