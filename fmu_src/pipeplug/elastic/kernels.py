@@ -71,8 +71,9 @@ N_COEF = 15
 W_IN, W_OUTER, W_INNER, F_OUT, F_IN = range(5)
 COMPENSATION = 5
 LIMITED = 8
-# With a ram (coef[RAM_MASS] > 0): the work done on the cushion [J] and its rounding error; the
-# ram's state from RAM (pipeplug.elastic.head.ram_step: velocity, compression, largest
+# With a ram (coef[RAM_MASS] > 0): the work done on the cushion [J] (less the negative
+# recoverable energy a strike in a step of pull leaves to W_RAM, pipeplug.elastic.head) and its
+# rounding error; the ram's state from RAM (pipeplug.elastic.head.ram_step: velocity, compression, largest
 # compression, force, transferred work and its error). Every model: the smallest and largest
 # node-centred axial force [N] of the pipe (pipeplug.elastic.cells.node_forces) during the
 # current communication step.

@@ -60,7 +60,7 @@ from .. import jit
 from ..contact.face import sign
 from ..interface import ModelBase, Outputs, profile_sections
 from ..params import ParameterError
-from .cells import node_forces
+from .cells import accumulate, node_forces
 from .grid import Section, build_grid
 from .head import cushion_energy, start_strike
 from .kernels import (
@@ -277,8 +277,17 @@ class ElasticModel(ModelBase):
         if not math.isfinite(velocity):
             raise ParameterError("v_strike", velocity, "finite [m/s]")
         acc, mass = self.acc, self.grid.coef[RAM_MASS]
-        # The ram's kinetic energy is replaced; what the cushion still held is lost with it.
-        acc[W_RAM] += 0.5 * mass * (velocity * velocity - acc[RAM] ** 2)
+        # The ram's kinetic energy is replaced. What the cushion still held, R >= 0, is lost
+        # with it (W_cushion = work on the cushion - R rises by R once R is 0). R < 0 only in
+        # the one step of pull after a separation: energy the bodies hold beyond the scheme's
+        # (the push acted over the whole step), which that pull would have taken back. The
+        # strike cancels the pull, so the bodies keep it: the strike brought it (W_RAM), and
+        # the work on the cushion takes -R so that W_cushion does not change
+        # (pipeplug.elastic.head).
+        held = self._cushion_energy()
+        acc[W_RAM] += 0.5 * mass * (velocity * velocity - acc[RAM] ** 2) - min(held, 0.0)
+        if held < 0.0:
+            accumulate(acc, W_CUSHION, W_CUSHION_ERROR, -held)
         start_strike(acc[RAM:RAM + 6], float(velocity))
         self._rest = None
 
