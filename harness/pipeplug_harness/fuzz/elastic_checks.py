@@ -49,14 +49,6 @@ class RodBody(NamedTuple):
                    2 * math.pi * p["R1"] * L2 * p["tau2"] if plug else 0.0,
                    p.get("ram_mass", 0.0), p["rho1"] * S1 * p["dx"], face)
 
-    def cushion_allowance(self, strikes) -> float:
-        """How far below 0 the cushion's loss may fall [J]: a separation never lowers it
-        (:mod:`pipeplug.elastic.head`), but a strike in the one step of pull after one resets
-        a cushion holding up to ``-k_u h^2 dv^2 / 2``, at most ``m_cell dv^2`` (the head's
-        stability bounds ``k_u h^2`` by ``2 m_cell``), dv the closing velocity, taken as at
-        most twice the strike's: ``m_cell (2 v)^2`` a strike, allowed twice."""
-        return 4.0 * 0.5 * self.m_cell * sum((2.0 * v) ** 2 for _, v in strikes)
-
 
 def _column(rows, name: str) -> np.ndarray:
     return rows[:, COLUMN[name]]
@@ -93,12 +85,12 @@ def ledger_roundoff(rows, times, h: float):
     return _relative_allowance(times, h) * _largest_work(rows)
 
 
-def energy_violations(rows, cushion_allowance: float = 0.0, m_ram: float = 0.0,
-                      times=None, h: float = 0.0) -> float:
-    """Points where a term of the ledger is negative (the cushion's loss below
-    ``-cushion_allowance`` [J], :meth:`RodBody.cushion_allowance`, and the ledger's round-off
-    at ``times``, :func:`ledger_roundoff`), W_numerical is not 0, the friction work exceeds
-    the work put in (force and ram) by more than the same two allowances, an output is not
+def energy_violations(rows, m_ram: float = 0.0, times=None, h: float = 0.0) -> float:
+    """Points where a term of the ledger is negative (the cushion's loss below the ledger's
+    round-off at ``times``, :func:`ledger_roundoff`), the cushion's loss falls by more than
+    that round-off (a strike never lowers it: :mod:`pipeplug.elastic.head`), W_numerical is
+    not 0, the friction work exceeds the work put in (force and ram) by more than that
+    round-off, an output is not
     finite, or the model claims rest while pipe or plug move or anything but a ram of
     ``m_ram`` [kg] holds kinetic energy."""
     c = COLUMN
@@ -107,19 +99,18 @@ def energy_violations(rows, cushion_allowance: float = 0.0, m_ram: float = 0.0,
     # round-off (``times`` [s] at steps of ``h`` [s] give the steps taken)
     roundoff = ledger_roundoff(rows, times, h)
     for name in LEDGER_TERMS:
-        floor = -(cushion_allowance + roundoff) if name == "W_cushion" else 0.0
+        floor = -roundoff if name == "W_cushion" else 0.0
         bad |= _column(rows, name) < floor
+    bad |= np.diff(_column(rows, "W_cushion"), prepend=0.0) < -roundoff
     bad |= _column(rows, "W_numerical") != 0.0
     # soil taken in at rest never gives energy back
     bad |= np.diff(_column(rows, "W_accretion"), prepend=0.0) < 0.0
-    # What the cushion may give back is the only energy the scheme may create. The bound
-    # follows from the ledger: W_input + W_ram = the stored energies + every loss + residual,
-    # every term but the cushion's >= 0, the cushion's >= -cushion_allowance and |residual|
-    # <= roundoff, so W_friction <= W_input + W_ram + cushion_allowance + roundoff. The
-    # round-off matters where pushes and pulls cancel: W_input a few ulps below 0 with the
-    # bodies at rest and no friction work.
+    # The scheme creates no energy. From the ledger: W_input + W_ram = the stored energies +
+    # every loss + residual, every term >= 0 (the cushion's to round-off) and |residual| <=
+    # roundoff, so W_friction <= W_input + W_ram + roundoff. The round-off matters where pushes
+    # and pulls cancel: W_input a few ulps below 0 with the bodies at rest and no friction work.
     bad |= (_column(rows, "W_friction")
-            > _column(rows, "W_input") + _column(rows, "W_ram") + cushion_allowance + roundoff)
+            > _column(rows, "W_input") + _column(rows, "W_ram") + roundoff)
     resting = rows[:, c["at_rest"]] != 0.0
     # At rest only a ram flying off the head may still move (its energy is all E_kinetic).
     v_ram = _column(rows, "v_ram")

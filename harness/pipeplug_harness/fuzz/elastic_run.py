@@ -97,7 +97,7 @@ def _grids(case: ElasticCase, path: str, body, result: CaseResult) -> list:
         loads = case.load_at(grid[:-1])
         result.put("ledger", path, ek.ledger_error(rows, grid[1:], h))
         result.put("energies", path, ek.energy_violations(
-            rows, body.cushion_allowance(case.strikes), body.m_ram, grid[1:], h))
+            rows, body.m_ram, grid[1:], h))
         result.put("friction work", path, ck.friction_decrease(rows))
         result.put("bound", path, ek.bound_ratio(rows, loads, np.diff(grid), body, h,
                                                  case.strikes, grid[:-1]))

@@ -53,3 +53,15 @@ def test_friction_work_beyond_the_input_by_more_than_the_ledger_allows_is_found(
 
 def test_without_times_no_round_off_is_allowed():
     assert energy_violations(_push_then_pull(-2.3e-14, 0.0)) == 1.0
+
+
+def test_a_cushion_loss_that_falls_is_found_even_above_zero():
+    """A strike in the cushion's pull step lowered W_cushion by up to 0.16 of the run's work
+    while it stayed >= 0; the check took any W_cushion above -m_cell (2 v)^2 per strike. A loss
+    falls by round-off at most now."""
+    rows = _rows({"W_input": 2.0, "W_cushion": 1.0, "E_kinetic": 1.0},
+                 {"W_input": 2.0, "W_cushion": 0.5, "E_kinetic": 1.5})
+    assert energy_violations(rows, times=TIMES, h=H) > 0.0
+    steady = _rows({"W_input": 2.0, "W_cushion": 1.0, "E_kinetic": 1.0},
+                   {"W_input": 2.0, "W_cushion": 1.0, "E_kinetic": 1.0})
+    assert energy_violations(steady, times=TIMES, h=H) == 0.0
