@@ -104,14 +104,17 @@ def ledger_error(rows, body: ck.Body, ram_mass: float) -> float:
 
 def sign_violations(rows) -> float:
     """Points where E_kinetic, E_strain, W_cushion or W_face is negative (beyond 1e-12 of the
-    largest work: W_cushion and W_face are differences), W_numerical is not 0, W_friction and
-    W_face exceed the work put in, or an output is not finite."""
+    largest work: W_cushion and W_face are differences), a loss (W_friction, W_cushion, W_face)
+    falls by more than that, W_numerical is not 0, W_friction and W_face exceed the work put
+    in, or an output is not finite."""
     c = COLUMN
     scale = max(float(np.max(np.abs(rows[:, c[n]]), initial=0.0)) for n in _LEDGER_IN)
     bad = ~np.all(np.isfinite(rows), axis=1)
     bad |= (rows[:, c["E_kinetic"]] < 0.0) | (rows[:, c["E_strain"]] < 0.0)
     bad |= rows[:, c["W_cushion"]] < -1e-12 * scale
     bad |= rows[:, c["W_face"]] < -1e-12 * scale
+    for loss in ("W_friction", "W_cushion", "W_face"):      # dissipated: never given back
+        bad |= np.diff(rows[:, c[loss]], prepend=0.0) < -1e-12 * scale
     bad |= rows[:, c["W_numerical"]] != 0.0
     bad |= (rows[:, c["W_friction"]] + rows[:, c["W_face"]] > rows[:, c["W_input"]]
             + rows[:, c["W_ram"]] + 1e-12 * scale)

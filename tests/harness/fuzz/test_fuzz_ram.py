@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import re
 
+import numpy as np
 from fuzz_helpers import count
 
 from pipeplug import build_model
@@ -12,6 +13,7 @@ from pipeplug_harness.fuzz.cases import Plan
 from pipeplug_harness.fuzz.engine import fuzz
 from pipeplug_harness.fuzz.paths import CORE_PATHS
 from pipeplug_harness.fuzz.ram_cases import generate_ram, ram_from_json, ram_to_json
+from pipeplug_harness.fuzz.ram_run import COLUMN, sign_violations
 from pipeplug_harness.fuzz.report import load_failure, save_failure
 from pipeplug_harness.fuzz.run import CaseResult, Setup
 
@@ -145,3 +147,15 @@ def test_a_displacement_the_reference_holds_at_zero_allows_round_off_drift_only(
         ram_run._reference(case, [rows] * len(case.grids), "python", result)
         values.append(result.values[("reference", "python")])
     assert values[0] <= 1e-9 < values[1] < values[2] < math.inf
+
+
+def test_a_loss_that_falls_is_a_sign_violation():
+    """W_cushion, W_face and the friction work are losses: one that falls by more than 1e-12 of
+    the largest work is flagged though it stays >= 0 (a strike used to lower W_cushion)."""
+    rows = np.zeros((3, len(COLUMN)))
+    rows[:, COLUMN["W_input"]] = 10.0
+    rows[:, COLUMN["E_kinetic"]] = [4.0, 4.0, 4.5]
+    rows[:, COLUMN["W_cushion"]] = [1.0, 1.0, 0.5]        # falls at the third point
+    assert sign_violations(rows) == 1.0
+    rows[2, COLUMN["W_cushion"]] = 1.0 - 1e-13              # round-off: not flagged
+    assert sign_violations(rows) == 0.0
