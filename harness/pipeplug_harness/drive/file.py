@@ -168,7 +168,9 @@ def drive_spec(name: str, values: dict, limits: Limits | None = None) -> DriveSp
         train = _strikes(hammer, given, values)
         values.update(ram_mass=hammer.ram_mass, cushion_stiffness=given["cushion_stiffness"],
                       cushion_restitution=given["cushion_restitution"])
-    elastic, reason = files.elastic_choice(values.pop("elastic"), values, train.duration)
+    choice = values.pop("elastic")
+    elastic, reason = files.elastic_choice(choice, values, train.duration)
+    reason += files.unused_model_keys(choice, values, elastic)
     start = {k: v for k, v in values.items() if v is not None}
     start["elastic"] = elastic
     grid = ""

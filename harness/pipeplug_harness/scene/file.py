@@ -106,7 +106,9 @@ def scene_of(name: str, values: dict, limits: Limits) -> Scene:
         load = Load()
     else:
         duration, load = train.duration, Load.from_train(train, stop)
-    elastic, reason = spec.elastic_choice(values.pop("elastic"), values, duration)
+    choice = values.pop("elastic")
+    elastic, reason = spec.elastic_choice(choice, values, duration)
+    reason += spec.unused_model_keys(choice, values, elastic)
     start_values = {k: v for k, v in values.items() if v is not None}
     start_values["elastic"] = elastic
     try:                  # the core's own rules now, not the FMU's refusal after the folder

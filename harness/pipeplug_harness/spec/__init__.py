@@ -13,11 +13,11 @@ from pipeplug_harness.errors import UserError
 from .blows import blow_train, period_of, ram_train
 from .check import allowed_names, check_sections, plausibility, value_of
 from .kinds import DRIVE, SCENE, SWEEP_BLOW, SWEEP_DRIVE, SWEEP_KINDS, FileKind
-from .model import AUTO_RATIO, elastic_choice
+from .model import AUTO_RATIO, elastic_choice, unused_model_keys
 from .tables import SECTIONS, Key
 from .toml import read_toml
 
-__all__ = ["AUTO_RATIO", "elastic_choice", "read_toml", "checked", "read_file", "blow_train",
+__all__ = ["AUTO_RATIO", "elastic_choice", "unused_model_keys", "read_toml", "checked", "read_file", "blow_train",
            "period_of", "ram_train", "value_of",
            "FileKind", "Key", "SECTIONS", "SCENE", "DRIVE", "SWEEP_BLOW", "SWEEP_DRIVE",
            "SWEEP_KINDS", "check_plausible", "plausibility"]

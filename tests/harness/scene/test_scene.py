@@ -317,3 +317,26 @@ def test_the_run_starts_from_the_model_s_own_outputs(pipeplug_cli, fmu_file, tmp
     assert rows[0]["at_rest"] == "1" and rows[1]["at_rest"] == "0"
     lowest = min(float(r["F_outer [N]"]) for r in rows)
     assert lowest < 0.0 and f"F_outer from {lowest:.6g} to" in proc.stdout
+
+
+@pytest.mark.parametrize("model, key", [
+    ('elastic = false\ndx = 0.3', r"\[model\] dx = 0.3; allowed: none with elastic = false"),
+    ('elastic = false\ndt = 1e-4', r"\[model\] dt = 0.0001; allowed: none with elastic = false"),
+    ('elastic = true\nsolver = "fd"', r"\[model\] solver = 'fd'; allowed: none with elastic = t"),
+    ('elastic = true\ndt = 1e-4', r"\[model\] dt = 0.0001; allowed: none with elastic = true"),
+])
+def test_a_key_the_chosen_model_does_not_read_is_a_slip(tmp_path, model, key):
+    """dt on an elastic run, dx on a rigid one, solver = "fd" with elastic = true: each ran and
+    gave the results of the file without it."""
+    with pytest.raises(UserError, match=key):
+        load_scene(_write(tmp_path, BASE + BLOW + "[model]\n" + model + "\n"))
+
+
+def test_under_auto_the_keys_of_the_model_not_chosen_are_named_not_refused(tmp_path):
+    scene = load_scene(_write(tmp_path, BASE + BLOW + '[model]\nelastic = "auto"\ndx = 0.1\n'
+                                                      'solver = "fd"\ndt = 1e-4\n'))
+    assert scene.start_values["elastic"] is False             # a 50 ms blow on a 1 m pipe
+    assert scene.reason.endswith("[model] dx unused by the rigid model's fd scheme")
+    fd_ok = load_scene(_write(tmp_path, BASE + BLOW + '[model]\nelastic = false\nsolver = "fd"'
+                                                      '\ndt = 1e-4\n'))
+    assert "unused" not in fd_ok.reason
