@@ -58,8 +58,11 @@ def dask_client(scheduler: str | None = None, workers: int | None = None):
                 dask.config.set({"temporary-directory": scratch}):
             # No dashboard; the scheduler's HTTP routes (health, metrics) still listen, on a
             # free port of the loopback rather than on 8787, which a user's own cluster may hold.
+            # The cluster's own log lines stay off the user's terminal: on a loaded machine (two
+            # campaigns at once) a late heartbeat logged an ERROR and tracebacks of a retry that
+            # then succeeded; a task that fails reaches the campaign through its result.
             with LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                              dashboard_address=None, silence_logs=logging.ERROR,
+                              dashboard_address=None, silence_logs=logging.CRITICAL,
                               local_directory=scratch,
                               scheduler_kwargs={"dashboard_address": "127.0.0.1:0"}) as cluster, \
                     Client(cluster) as client:
