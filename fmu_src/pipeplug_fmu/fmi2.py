@@ -73,19 +73,19 @@ class Fmi2Binding(Fmi2Slave):
             self._refuse_get(vrs, "Real")
 
     def get_integer(self, vrs):
-        if self._phase is _INSTANTIATED:
-            self._refuse_early_get("Integer")
-        return self._get("Integer", vrs)
+        return self._read("Integer", vrs)
 
     def get_boolean(self, vrs):
-        if self._phase is _INSTANTIATED:
-            self._refuse_early_get("Boolean")
-        return self._get("Boolean", vrs)
+        return self._read("Boolean", vrs)
 
     def get_string(self, vrs):
+        return self._read("String", vrs)
+
+    def _read(self, kind: str, vrs) -> list:
+        """The values of ``vrs`` of ``kind``, from initialization mode on."""
         if self._phase is _INSTANTIATED:
-            self._refuse_early_get("String")
-        return self._get("String", vrs)
+            self._refuse_early_get(kind)
+        return self._get(kind, vrs)
 
     def _refuse_early_get(self, kind: str) -> None:
         call = f"fmi2Get{kind}"
