@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import compiled, core
-from .cases import BenchCase, closed_form_reference, relative_errors
+from .cases import BenchCase, closed_form_reference, from_outputs, relative_errors
 from .regularised import run_regularised
 
 #: regularised families with a compiled right-hand side (:mod:`pipeplug_harness.cost.compiled`)
@@ -83,9 +83,12 @@ def reference(bench: BenchCase) -> dict:
     return core.run_exact(bench) if bench.growth else closed_form_reference(bench)
 
 
-def measure(family, setting, bench, run, ref, repeats) -> dict:
-    """Time ``run()`` and compare its result with `ref`: one row."""
+def measure(family, setting, bench, run, ref, repeats, columns: bool = False) -> dict:
+    """Time ``run()`` and compare its result with `ref`: one row. With `columns`, ``run()``
+    returns the core's output columns, put under the study's keys after the timing."""
     result, seconds = core.best_time(run, repeats)
+    if columns:
+        result = from_outputs(result)
     ok = bool(result.get("success", True))
     v_err, u_err = relative_errors(result, ref) if ok else (math.nan, math.nan)
     row = {"method": family, "setting": setting, "case": bench.name, "max_rel_error": v_err,
@@ -96,9 +99,8 @@ def measure(family, setting, bench, run, ref, repeats) -> dict:
 
 
 def _runs(bench: BenchCase, config: Config, families):
-    """(family, setting, run) of every rigid method on `bench` (of the compiled competitors,
-    `families`)."""
-    yield "exact", "dense output", lambda: core.run_exact(bench)
+    """(family, setting, run) of every rigid method on `bench` but the exact solver (of the
+    compiled competitors, `families`)."""
     for dt in config.fd_dts:
         yield "fd", f"dt={dt:g}", lambda dt=dt: core.run_fd(bench, dt)
     for family in config.methods:
@@ -159,6 +161,8 @@ def sweep(config: Config, families=()) -> list[dict]:
     for bench in config.cases:
         progress(f"case {bench.name} (t_end = {bench.t_end:g} s, {len(bench.times)} samples)")
         ref = reference(bench)
+        rows.append(measure("exact", "dense output", bench, core.exact_call(bench), ref,
+                            config.repeats, columns=True))
         rows += [measure(family, setting, bench, run, ref, config.repeats)
                  for family, setting, run in _runs(bench, config, families)]
     return rows
