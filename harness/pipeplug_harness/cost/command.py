@@ -145,7 +145,8 @@ def _setup(config: Config, study: dict) -> list[str]:
             "Jacobian compiled (numba; jax for diffrax), and the fd scheme compiled (numba) at "
             "the fd steps; compile and jit times apart, below.",
             f"- exact solver: {'compiled (numba)' if study['batch']['compiled'] else 'plain Python'}"
-            ", dense output at the sample times.",
+            ", dense output at the sample times; its time is the single-case API's call, "
+            "`build_model` then `sample`, on a parameter mapping and arrays made beforehand.",
             f"- machine: {platform.machine()}, {os.cpu_count()} cores, Python "
             f"{platform.python_version()}, numpy {np.__version__}, scipy {scipy.__version__}."]
 
