@@ -2,6 +2,7 @@
 import argparse
 import csv
 import math
+import statistics
 from collections import defaultdict
 
 import numpy as np
@@ -62,6 +63,14 @@ def test_files_are_written(study):
     assert "exact vs best LSODA" in text and "exact vs best Radau" in text
     assert "Exact against the fastest regularised setting" in text and "median ratio" in text
     assert "cases/s** on one core" in text
+
+
+def test_the_report_states_the_exact_solvers_time_per_case_against_its_goal(study, rows):
+    times = sorted(float(r["wall_s"]) for r in rows if r["method"] == "exact")
+    median = statistics.median(times)
+    text = (study / "cost.md").read_text()
+    assert (f"median **{1e6 * median:.1f} µs**, slowest **{1e6 * times[-1]:.1f} µs** (goal on "
+            "the compiled path: at most 10 µs per case)") in text
 
 
 def test_every_method_family_is_in_the_csv(rows):
