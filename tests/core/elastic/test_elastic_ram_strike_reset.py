@@ -13,6 +13,11 @@ cell mass, internal step, v0; the cell's stiffness is then 1). The ram's force h
 whose pull is -15/16 with the recoverable energy 1/8 (-15/16) / 2 = -15/256. A strike at 2 v0
 there brings 2 (2^2 - (1/16)^2) / 2 + 15/256 = 5 + 7/128 and the cushion loses 0 at it;
 the new contact parts in step 9 and its cut in step 10 loses 165/1024.
+
+A head bouncing back at the ram: with e^2 = 1/4 and the head pulled back by loads, the cushion
+closes again in the step after its pull, where the law's push fell below the pull's size and
+the loss fell; that step's force is held between -F and U' (pipeplug.elastic.head), and the
+reference, stepped with and without that hold, shows both.
 """
 from __future__ import annotations
 
@@ -32,9 +37,13 @@ from pipeplug.elastic.model import ElasticModel
 ROUNDOFF = 16 * 2.0 ** -52
 
 
-def _reference(strikes, steps):
-    """(W_cushion, W_ram, E) after each step in units of m_cell v0^2, exact: a free rod of two
-    cells, Courant 1, a ram of two cell masses, direct strikes {step before which: velocity}."""
+def _reference(strikes, steps, e2=Fr(1), loads=None, hold=True):
+    """(W_cushion, W_ram, E, F) after each step in units of m_cell v0^2 (F: m_cell v0 / h),
+    exact: a free rod of two cells, Courant 1, a ram of two cell masses, direct strikes {step
+    before which: velocity}, a restitution e^2 = ``e2`` (loading along e^2 times the unloading
+    stiffness, which is the cell's, 1) and loads {step: Q} on the head (E then leaves out the
+    work of Q, which W_cushion does not hold); ``hold=False``: the law alone in the step after
+    a pull (the scheme before its fix)."""
     n, mr = 2, Fr(2)
     v, N = [Fr(0)] * n, [Fr(0)] * (n + 1)
     vr = d = dmax = F = Fr(0)
@@ -50,7 +59,7 @@ def _reference(strikes, steps):
             w_ram += mr * (strikes[s] ** 2 - vr ** 2) / 2 - min(r, Fr(0))
             kept -= min(r, Fr(0))
             vr, d, dmax, F = strikes[s], Fr(0), Fr(0), Fr(0)
-        N[0] = -F
+        N[0] = -(F + (loads or {}).get(s, Fr(0)))
         vh_old = v[0]
         for j in range(n):
             v[j] += N[j + 1] - N[j]
@@ -60,14 +69,17 @@ def _reference(strikes, steps):
         work += F * ((vr_old - vh_old) + (vr - v[0])) / 2
         d += vr - v[0]
         dmax = max(dmax, d)
-        law = max(Fr(0), min(d, dmax - (dmax - d)))
+        law = max(Fr(0), min(e2 * d, e2 * dmax - (dmax - d)))
+        line = F + (vr - v[0])                     # the unloading line's force, U'
         if law == 0 and F > 0:
-            law = F + (vr - v[0])
+            law = line                             # the step of pull
+        elif F < 0 and hold:
+            law = min(max(law, min(-F, line)), max(-F, line))     # the step after: -F..U'
         F = law
         stored = (sum(x * x for x in v) / 2 + mr * vr * vr / 2
                   + sum(N[f] * (N[f] - (v[f] - v[f - 1])) / 2 for f in range(1, n))
                   + held(F, vr, v[0]))
-        rows.append((work - held(F, vr, v[0]) + kept, w_ram, stored))
+        rows.append((work - held(F, vr, v[0]) + kept, w_ram, stored, F))
     return rows
 
 
@@ -83,7 +95,7 @@ def test_the_reference_holds_the_numbers_of_its_derivation():
     assert rows[4][0] == 0 and rows[4][1] == 1 and rows[5][0] == 0
     assert rows[5][1] == 5 + Fr(7, 128)
     assert rows[9][0] == rows[-1][0] == Fr(165, 1024)
-    assert all(w_ram == w_cushion + stored for w_cushion, w_ram, stored in rows)
+    assert all(w_ram == w_cushion + stored for w_cushion, w_ram, stored, _ in rows)
 
 
 def test_a_strike_in_the_step_of_pull_keeps_w_cushion_and_counts_the_pull_in_w_ram():
@@ -93,7 +105,7 @@ def test_a_strike_in_the_step_of_pull_keeps_w_cushion_and_counts_the_pull_in_w_r
     rows = _reference({0: Fr(1), 5: Fr(2)}, 16)
     model.strike(1.0)
     before = 0.0
-    for step, (w_cushion, w_ram, stored) in enumerate(rows):
+    for step, (w_cushion, w_ram, stored, _) in enumerate(rows):
         if step == 5:
             pull = model.acc[RAM + 3] * h / cell
             assert pull == pytest.approx(-15 / 16, rel=1e-14)      # the step of pull
@@ -109,6 +121,40 @@ def test_a_strike_in_the_step_of_pull_keeps_w_cushion_and_counts_the_pull_in_w_r
         assert out.W_cushion >= before - 1e-15 * cell
         before = out.W_cushion
     assert before / cell == pytest.approx(165 / 1024, rel=1e-13)
+
+
+#: the bounce: e^2 = 1/4, the head pulled back at the ram by Q = -m_cell v0 / h in steps 5 and
+#: 6; the cushion opens in step 7 (a pull) and closes again in step 8
+BOUNCE = dict(strikes={0: Fr(1)}, steps=14, e2=Fr(1, 4), loads={5: Fr(-1), 6: Fr(-1)})
+
+
+def test_the_reference_of_a_bounce_pulls_then_pushes_and_never_lowers_w_cushion():
+    rows, law_alone = _reference(**BOUNCE), _reference(**BOUNCE, hold=False)
+    forces = [f for *_, f in rows]
+    assert forces[6] > 0 > forces[7] and forces[8] > 0            # push, pull, push again
+    assert all(b[0] >= a[0] for a, b in zip(rows, rows[1:]))
+    # the law alone pushes less in step 8, and the loss falls there
+    assert law_alone[:8] == rows[:8] and 0 < law_alone[8][3] < forces[8]
+    assert law_alone[8][0] < law_alone[7][0]
+
+
+def test_a_head_bouncing_back_at_the_ram_follows_the_reference_and_never_lowers_w_cushion():
+    """Fuzz case 202:46 in small: after a pull the cushion closes again within a step, where
+    the law's push was below the pull's size and W_cushion fell (by 6.5 J of 13,400 J there)."""
+    cell = build_model(dict(L1=0.2, dx=0.1, L2=0.0, tau1=0.0, tau2=0.0, x_monitor=0.0),
+                       {"elastic": True}).grid.coef[M1]
+    model = build_model(dict(L1=0.2, dx=0.1, L2=0.0, tau1=0.0, tau2=0.0, x_monitor=0.0,
+                             ram_mass=2.0 * cell, cushion_restitution=0.5), {"elastic": True})
+    h = model.grid.h_max
+    model.strike(1.0)
+    before = 0.0
+    for step, (w_cushion, _, _, force) in enumerate(_reference(**BOUNCE)):
+        model.advance(float(BOUNCE["loads"].get(step, 0)) * cell / h, h)
+        out = model.outputs()
+        assert model.acc[RAM + 3] * h / cell == pytest.approx(float(force), rel=1e-13, abs=1e-14)
+        assert out.W_cushion / cell == pytest.approx(float(w_cushion), rel=1e-13, abs=1e-14)
+        assert out.W_cushion >= before - 1e-15 * cell
+        before = out.W_cushion
 
 
 def test_the_case_found_by_the_checker_no_longer_lowers_w_cushion():
@@ -180,6 +226,7 @@ def _run(p, rng, vectorised):
     params.validate(options.active_groups())
     model = ElasticModel(params, options, vectorised=vectorised)
     h = model.grid.h_max
+    impedance = model.grid.coef[M1] / h            # rho1 c1 S1 at Courant 1 [kg/s]
     v0 = rng.uniform(0.5, 5.0)
     model.strike(v0)
     outs, states, largest = [model.outputs()], [], 0.0
@@ -194,7 +241,10 @@ def _run(p, rng, vectorised):
             model.strike(rng.uniform(-0.5, 1.5) * v0)
             strikes += 1
             outs.append(model.outputs())
-        q = rng.choice([0.0, 0.0, rng.uniform(-1.0, 1.0) * 1e3 * v0])
+        # loads up to twice the impact's force Z v0, either way: a load pulling the head back
+        # at the ram can close the cushion again right after it opened
+        q = rng.choice([0.0, 0.0, rng.uniform(-1.0, 1.0) * 1e3 * v0,
+                        rng.uniform(-2.0, 1.0) * impedance * v0])
         model.advance(q, h * rng.choice([1, 1, 2, 3]))
         outs.append(model.outputs())
         largest = max(largest, abs(outs[-1].W_input + outs[-1].W_ram))
