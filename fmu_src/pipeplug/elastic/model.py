@@ -105,11 +105,16 @@ class Clock:
     """The elastic model's grid of times and the load's impulse since its last point.
 
     Grid points are ``origin + k h``; ``pending`` is the impulse of Q [N s] from grid point
-    ``k`` to :attr:`time` (0 when the time is at or, by round-off, before the point), and
-    ``pending_load`` the force [N] that gave all of it (unless ``mixed``: forces differed; a
-    flag, not a NaN, so that a state holds only finite numbers): a step whose
-    load did not change over it takes that force itself, not the mean its impulse would give
-    to round-off, so that every host grid gives the grid points' results bit for bit.
+    ``k`` to :attr:`time` (0 when the time is at or, by round-off, before the point). It is
+    kept as runs of one force each, ``pending_load`` the last run's force from ``run_start``
+    [s] and ``closed`` [N s] the impulse of the runs before it (``mixed``: there were some; a
+    flag, not a NaN, so that a state holds only finite numbers). A run's impulse is its force
+    times its length in one product, whatever points the host put in it, so that the
+    impulse, and with it every result, is the same on every host grid that holds the load's
+    edges (a sum over the host's sub-steps would round differently on each, and a friction
+    contact at its limit may turn on the last bit). A step whose load did not change over it
+    takes that force itself, not the mean its impulse would give to round-off, so that every
+    host grid gives the grid points' results bit for bit.
     """
 
     def __init__(self, h: float):
@@ -118,7 +123,9 @@ class Clock:
         self.started = False   #: the origin is fixed (the time was set once)
         self.k = 0             #: grid points stepped
         self.pending = 0.0     #: [N s]
-        self.pending_load = 0.0  #: [N]
+        self.pending_load = 0.0  #: the last run's force [N]
+        self.run_start = 0.0   #: the last run's start [s]
+        self.closed = 0.0      #: the impulse of the runs before it [N s]
         self.mixed = False     #: the pending impulse came from different forces
         self.time = 0.0        #: the model's time [s]
 
@@ -135,7 +142,10 @@ class Clock:
         on: ``q`` itself if it acted since the point, else the mean force of the interval."""
         if self.time <= self.point(self.k) or (not self.mixed and self.pending_load == q):
             return q
-        return (self.pending + q * (self.point(self.k + 1) - self.time)) / self.h
+        end = self.point(self.k + 1)
+        if q == self.pending_load:              # the last run goes on to the step's end
+            return (self.closed + q * (end - self.run_start)) / self.h
+        return (self.pending + q * (end - self.time)) / self.h
 
     def hold(self, q: float, t_end: float) -> None:
         """Keep the impulse of ``q`` [N] from the time (or grid point ``k``) to ``t_end``
@@ -143,15 +153,17 @@ class Clock:
         start = max(self.time, self.point(self.k))
         if t_end > start:
             if self.time <= self.point(self.k):
-                self.pending, self.pending_load, self.mixed = 0.0, q, False
-            elif self.pending_load != q:
-                self.mixed = True
-            self.pending += q * (t_end - start)
+                self.closed, self.run_start, self.pending_load, self.mixed = 0.0, start, q, False
+            elif self.pending_load != q:        # a new run: the last one closes here
+                self.closed += self.pending_load * (start - self.run_start)
+                self.run_start, self.pending_load, self.mixed = start, q, True
+            self.pending = self.closed + q * (t_end - self.run_start)
         self.time = t_end
 
     def passed(self, k_end: int) -> None:
         """Grid points up to ``k_end`` were stepped: nothing pending."""
         self.k, self.pending, self.pending_load, self.mixed = k_end, 0.0, 0.0, False
+        self.run_start, self.closed = 0.0, 0.0
 
 
 class ElasticModel(ModelBase):
@@ -419,7 +431,7 @@ class ElasticModel(ModelBase):
         state = {"time": clock.time, "origin": clock.origin, "started": clock.started,
                  "k": clock.k,
                  "pending": clock.pending, "pending_load": clock.pending_load,
-                 "mixed": clock.mixed}
+                 "run_start": clock.run_start, "closed": clock.closed, "mixed": clock.mixed}
         state.update({name: getattr(self, name).copy() for name in _FIELDS})
         state["modes"] = np.array(self._modes, dtype=np.int64).reshape(-1, 2)
         return state
@@ -440,6 +452,7 @@ class ElasticModel(ModelBase):
         clock.started = bool(state["started"])
         clock.k, clock.pending = int(state["k"]), float(state["pending"])
         clock.pending_load = float(state["pending_load"])
+        clock.run_start, clock.closed = float(state["run_start"]), float(state["closed"])
         clock.mixed = bool(state["mixed"])
 
 

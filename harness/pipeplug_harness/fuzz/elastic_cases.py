@@ -17,7 +17,10 @@ it is run on. Domains drawn (SI units):
   (or the force that moves the pipe at 1 m/s through its impedance, without friction), one in
   ten a pull; every blow edge on the grid of internal steps ``h = courant dx / c_fastest``
   (computed here by the contract's formulas, not by the core), followed by 0-3 of the blows'
-  periods of ringing;
+  periods of ringing; for 30 % of the cases but the free rods (a stream of its own,
+  ``spawn_key=(index, 8)``) every edge moved off that grid by 0.05-0.95 of a step, so that a
+  step takes the mean load over it and the results must still not depend on the host's
+  points;
 * a ram for 40 % of the cases: 0.05-20 pipe masses (at least 1.5 cells), striking directly or
   through a cushion of 1e-3-1 times a cell's stiffness (within the internal step's limit), with
   restitution 0.5-1 (1 for a third); 70 % of its blows are strikes at 0.5-10 m/s instead of a
@@ -52,9 +55,12 @@ from pipeplug_harness.load import Load
 
 from .cases import Plan, _damping
 
-__all__ = ["ElasticCase", "generate_elastic", "internal_step", "plug_simulated", "GRIDS"]
+__all__ = ["ElasticCase", "generate_elastic", "internal_step", "plug_simulated", "GRIDS",
+           "OFF_GRID_SHARE"]
 
 GRIDS = ("multiples", "random", "irregular")
+#: the share of the cases (not the free rods) whose blow edges are off the grid of internal steps
+OFF_GRID_SHARE = 0.3
 _POINTS = 800                     # most communication points of a grid
 _PLAN = Plan(model="elastic")
 _DAMPED_SHARE = 0.5               # of the cases that may be damped
@@ -134,6 +140,9 @@ def generate_elastic(seed: int, index: int, plan: Plan = _PLAN) -> ElasticCase:
         params.update(_damping(np.random.default_rng(
             np.random.SeedSequence(seed, spawn_key=(index, 7))), _DAMPED_SHARE))
     edges, loads, stop = _blows(rng, params, h)
+    if not _free(params):
+        edges = _off_the_grid(np.random.default_rng(
+            np.random.SeedSequence(seed, spawn_key=(index, 8))), edges, h, stop)
     strikes = ()
     if params["ram_mass"] > 0.0:
         edges, loads, strikes = _strikes(ram, edges, loads)
@@ -256,6 +265,16 @@ def _blows(rng, params: dict, h: float) -> tuple[tuple, tuple, float]:
     stop_steps = count * period + int(rng.integers(0, 3 * period + 1))
     stop_steps = max(stop_steps, round(edges[-1] / h))
     return tuple(edges), tuple(loads[:-1]), float(stop_steps * h)
+
+
+def _off_the_grid(rng, edges, h: float, stop: float, share: float = OFF_GRID_SHARE) -> tuple:
+    """For a ``share`` of the cases, every blow edge moved off the grid of internal steps by
+    0.05-0.95 of a step ``h`` [s] (but the edges within a step of the ``stop`` [s]): a blow
+    then starts and ends within a step, whose load is the mean over it."""
+    if rng.random() >= share:
+        return edges
+    shifts = rng.uniform(0.05, 0.95, len(edges))
+    return tuple(float(e + u * h) if e + h < stop else e for e, u in zip(edges, shifts))
 
 
 def _grids(rng, h: float, steps: int, edges, samples) -> dict:

@@ -89,6 +89,33 @@ def test_outputs_do_not_depend_on_the_host_grid(changes, growth, kernel):
         np.testing.assert_allclose(other, runs[0], rtol=0, atol=1e-12 * scale)
 
 
+@pytest.mark.parametrize("changes, growth, kernel", VARIANTS)
+def test_a_load_switching_between_grid_points_gives_the_same_bits_on_every_host_grid(
+        changes, growth, kernel):
+    """Edges 0.37 and 0.81 of a step past grid points: the steps holding them take the mean
+    load, a run's force times its length, whatever points the host put in the run (a sum over
+    the host's sub-steps rounds differently on each grid, and a contact at its friction limit
+    turns on the last bit: fuzz cases 202:68, 202:219, static forces 1e-10 apart)."""
+    runs = []
+    rng = np.random.default_rng(11)
+    for kind in ("multiples", "random", "shorter"):
+        model = elastic(changes, growth, dx=0.02)
+        h = model.grid.h_max
+        first, second, end = 250.37 * h, 321.81 * h, 900 * h
+        points = _grid(kind, h, rng, t_end=end)
+        # points of the host's own within the steps that hold an edge, before and after it
+        inside = [(k + rng.uniform(0.0, 1.0, 6)) * h for k in (250, 321)]
+        points = np.union1d(points[points < end], [first, second, end, *np.ravel(inside)])
+        t = 0.0
+        for t_next in points:
+            q = 23000.0 if t < first else -2000.0 if t < second else 7.0
+            model.advance_to(q, t_next, t)
+            t = t_next
+        runs.append(np.array(model.outputs()[:13], dtype=float))
+    for other in runs[1:]:
+        assert np.array_equal(other, runs[0])
+
+
 def test_momentum_of_pipe_and_plug_equals_impulse_of_q():
     """Without soil friction the plug forces are internal: sum m v = integral of Q, exactly,
     also for communication points between grid points (the impulse is kept, not lost)."""
