@@ -290,11 +290,11 @@ class ElasticModel(ModelBase):
             raise ParameterError("v_strike", velocity, "finite [m/s]")
         acc, mass = self.acc, self.grid.coef[RAM_MASS]
         # The ram's kinetic energy is replaced. What the cushion still held, R >= 0, is lost
-        # with it (W_cushion = work on the cushion - R rises by R once R is 0). R < 0 only in
-        # the one step of pull after a separation: energy the bodies hold beyond the scheme's
-        # (the push acted over the whole step), which that pull would have taken back. The
-        # strike cancels the pull, so the bodies keep it: the strike brought it (W_RAM), and
-        # the work on the cushion takes -R so that W_cushion does not change
+        # with it (W_cushion = work on the cushion - R rises by R once R is 0). R < 0 (the step
+        # of pull after a separation, a push closing fast): energy the bodies hold beyond the
+        # scheme's (the force acted over the whole step), which the next steps would have
+        # taken back. The strike cancels them, so the bodies keep it: the strike brought it
+        # (W_RAM), and the work on the cushion takes -R so that W_cushion does not change
         # (pipeplug.elastic.head).
         held = self._cushion_energy()
         acc[W_RAM] += 0.5 * mass * (velocity * velocity - acc[RAM] ** 2) - min(held, 0.0)
