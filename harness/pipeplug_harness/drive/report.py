@@ -79,7 +79,7 @@ def summary(result: DriveResult) -> str:
 
 def _end(result: DriveResult) -> str:
     """How the pipe is at the drive's end, where the penetration alone would mislead: still
-    moving (it goes further in after the last blow's window), or past L1 (the pipe went on
+    moving after the last blow's window (:func:`_still_moving`), or past L1 (the pipe went on
     after its last blow stopped acting, and the soil stopped it: any other pipe past L1 stops
     the drive, see :mod:`.checks`)."""
     if not result.blows:
@@ -90,9 +90,24 @@ def _end(result: DriveResult) -> str:
         text += (f", {last.penetration - L1:.3g} m past L1 = {L1:.6g} m (the pipe went on "
                  f"after the last blow, its head below the soil face)")
     if last.settled == "moving":
-        text += (f", still moving at {last.v_pipe_end:.4g} m/s when the drive stopped (it "
-                 f"comes to rest further in)")
+        text += _still_moving(last.v_pipe_end, last.v_plug_end)
     return text
+
+
+def _still_moving(v_pipe: float, v_plug: float) -> str:
+    """What a last blow whose motion had not died out left moving: pipe (forward or back),
+    plug, or neither at the monitor while the elastic pipe had not been still for a wave's
+    round trip (the settling window)."""
+    if v_pipe > 0.0:
+        return (f", still moving at {v_pipe:.4g} m/s when the drive stopped (it comes to rest "
+                f"further in)")
+    if v_pipe < 0.0:
+        return (f", still moving at {v_pipe:.4g} m/s when the drive stopped (back, out of the "
+                f"soil)")
+    if v_plug != 0.0:
+        return f", the plug still moving at {v_plug:.4g} m/s in the pipe when the drive stopped"
+    return (", at rest at the monitor when the drive stopped, but not yet for a wave's round "
+            "trip in the pipe (its waves may still move it)")
 
 
 def pace(result: DriveResult) -> str:

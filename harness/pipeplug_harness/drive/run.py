@@ -103,7 +103,7 @@ class Blow:
     v_pipe_end: float         #: [m/s]
     v_plug_end: float         #: [m/s]
     settled: str              #: "rest" (at_rest), "front" (front end still) or "moving"
-    motion: float             #: from the blow's start until its motion died out (settled) [s]
+    motion: float             #: from the blow's start to the first point found still (settled) [s]
     steps: int                #: communication steps of the window
     ringing_friction: float   #: friction work [J] dissipated after the front end stopped for
                               #: good (0 when it still moved at the window's end)
@@ -322,6 +322,11 @@ def _blow(s: Session, spec: DriveSpec, k: int, before: Outputs, pace: _Pace, plu
         if t >= fine_until:
             h *= 2.0
         tb = t + h if t_next - (t + h) > 0.5 * h else t_next
+        if t < t_next - pace.settle < tb:
+            # a point a settling window before the next blow: a front end still there and at
+            # the window's end has settled (the growing steps would skip it otherwise, and a
+            # pipe still for most of the period would end it "moving")
+            tb = t_next - pace.settle
         out = s.step(t, tb - t, 0.0)
         t = tb
         if out.v_pipe == 0.0 and out.v_plug == 0.0:
@@ -330,6 +335,9 @@ def _blow(s: Session, spec: DriveSpec, k: int, before: Outputs, pace: _Pace, plu
         else:
             still_since = None
         _raise(peaks, out)
+    else:                                             # the window's last step: as at the top
+        if out.at_rest or (still_since is not None and t - still_since >= pace.settle):
+            settled, motion = ("rest", t - t0) if out.at_rest else ("front", still_since - t0)
     moved = out.u_pipe - before.u_pipe
     blow = Blow(k + 1, t0, moved, out.u_pipe, peaks[0], peaks[1],
                 out.W_input - before.W_input, out.W_friction_outer - before.W_friction_outer,

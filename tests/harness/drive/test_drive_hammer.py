@@ -109,3 +109,26 @@ def test_the_shipped_ram_casing_drive_holds_its_stated_derivations():
     assert spec.hammer.v_strike == pytest.approx(v0, rel=1e-15)
     first = run_drive_on_core(dataclasses.replace(spec, max_blows=1)).blows[0]
     assert -first.stress_min == pytest.approx(Z1 * v0 / S1, rel=1e-5)
+
+
+def test_a_blow_whose_pipe_stopped_is_settled_and_the_summary_does_not_call_it_moving(tmp_path):
+    """A 3 m casing struck by a 711.5 kg ram: blows 3 and 4 stop the pipe well before the next
+    blow. The drive's steps grow after each blow, and the step to the next blow jumped over the
+    settling window (a wave's round trip): such blows ended "moving" with v = 0 and the summary
+    said "still moving at 0 m/s ... it comes to rest further in". A pipe still at a point a
+    window before the next blow and at that blow has settled."""
+    sections = {"pipe": {"L1": 3.0, "R1": 0.295275, "h1": 0.009525, "rho1": 7850.0,
+                         "E1": 2.0e11},
+                "plug": {"L2": 3.0, "rho2": 2000.0, "E2": 4.0e7, "tau2": 10184.0},
+                "soil": {"tau1": 10184.0, "contact_growth": True},
+                "hammer": {"rated_energy": "40.5 kJ", "efficiency": 0.17,
+                           "ram_mass": "711.5 kg", "rate": "200 /min"},
+                "model": {"elastic": True, "dx": 0.25},
+                "drive": {"target": 1.0, "refusal_set": 8.33e-5, "max_blows": 200}}
+    result = run_drive_on_core(_load(tmp_path, sections))
+    assert result.outcome == "target" and len(result.blows) == 4
+    for blow in result.blows:
+        still = blow.v_pipe_end == 0.0 and blow.v_plug_end == 0.0
+        assert (blow.settled != "moving") == still, blow
+    assert result.blows[-1].settled == "front"
+    assert "still moving" not in summary(result)

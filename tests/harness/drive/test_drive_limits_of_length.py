@@ -18,7 +18,7 @@ from drive_helpers import toml_text
 from pipeplug import PARAMETERS
 from pipeplug_harness.drive.checks import DriveInvalid
 from pipeplug_harness.drive.file import load_drive
-from pipeplug_harness.drive.report import summary, write_csv
+from pipeplug_harness.drive.report import _still_moving, summary, write_csv
 from pipeplug_harness.drive.run import NO_PLUG, run_drive_on_core
 from pipeplug_harness.errors import UserError
 from pipeplug_references.rigid_ivp import simulate
@@ -200,3 +200,17 @@ def test_no_set_refusal_is_refusal_set_zero_and_the_summary_says_so(tmp_path):
     result = run_drive_on_core(_load(tmp_path, sections))
     assert result.outcome == "static"
     assert "(no set refusal: refusal_set = 0)" in summary(result)
+
+
+@pytest.mark.parametrize("v_pipe, v_plug, says", [
+    (0.25, 0.25, "still moving at 0.25 m/s when the drive stopped (it comes to rest further in)"),
+    (-0.5, 0.0, "still moving at -0.5 m/s when the drive stopped (back, out of the soil)"),
+    (0.0, 0.125, "the plug still moving at 0.125 m/s in the pipe when the drive stopped"),
+    (0.0, 0.0, "at rest at the monitor when the drive stopped, but not yet for a wave's round "
+               "trip in the pipe"),
+])
+def test_a_last_blow_not_settled_says_what_still_moves(v_pipe, v_plug, says):
+    """The summary's end, by what the last blow left moving: never "still moving at 0 m/s"."""
+    text = _still_moving(v_pipe, v_plug)
+    assert says in text
+    assert "0 m/s" not in text
