@@ -233,6 +233,15 @@ class ModelBase:
         """
         raise ParameterError("strikes", "an increase", "none without a ram (ram_mass > 0)")
 
+    @staticmethod
+    def _check_strike(velocity: float, ram_mass: float) -> None:
+        """Refuse a strike at ``velocity`` [m/s] that is not finite or whose ram of
+        ``ram_mass`` [kg] would carry a kinetic energy beyond float range (every output after
+        it would be inf or nan; the velocity is the input to name)."""
+        if not (math.isfinite(velocity) and math.isfinite(0.5 * ram_mass * velocity * velocity)):
+            raise ParameterError("v_strike", velocity, "finite [m/s], with a finite kinetic "
+                                 "energy of the ram (m v^2 / 2)")
+
     def clean_out(self) -> None:
         """Remove the plug down to ``L2_after_cleanout`` now; a model with a growing plug
         overrides this.

@@ -406,6 +406,14 @@ PROBES = {
     "infinite v_strike, elastic": (struck(float("inf"), {"ram_mass": 50.0, "elastic": True}),
                                    Expected(DISCARD, ("v_strike = inf", "finite"),
                                             then_set=(("v_strike", 3.0),))),
+    # a finite velocity whose kinetic energy m v^2 / 2 overflows: every output after it would
+    # be inf or nan (it was fmi2Error naming E_kinetic); the input is what is refused
+    "huge v_strike": (struck(1e300, {"ram_mass": 50.0}),
+                      Expected(DISCARD, ("v_strike = 1e+300", "kinetic energy"),
+                               then_set=(("v_strike", 3.0),))),
+    "huge v_strike, elastic": (struck(1e300, {"ram_mass": 50.0, "elastic": True}),
+                               Expected(DISCARD, ("v_strike = 1e+300", "kinetic energy"),
+                                        then_set=(("v_strike", 3.0),))),
     "huge Q": (stepped(0.005, 0.005, 1e200), Expected(ERROR, ("W_input = inf", "finite"))),
     "infinite step": (stepped(0.005, float("inf")),
                       Expected(DISCARD, ("communicationStepSize = inf", "finite"))),

@@ -282,13 +282,13 @@ class ElasticModel(ModelBase):
         Raises
         ------
         ParameterError
-            Without a ram (``ram_mass = 0``) or for a velocity that is not finite.
+            Without a ram (``ram_mass = 0``), or for a velocity that is not finite or whose
+            kinetic energy is not.
         """
         if not self.params.has_ram:
             raise ParameterError("strikes", "an increase", "none without a ram (ram_mass > 0)")
-        if not math.isfinite(velocity):
-            raise ParameterError("v_strike", velocity, "finite [m/s]")
         acc, mass = self.acc, self.grid.coef[RAM_MASS]
+        self._check_strike(velocity, float(mass))
         # The ram's kinetic energy is replaced. What the cushion still held, R >= 0, is lost
         # with it (W_cushion = work on the cushion - R rises by R once R is 0). R < 0 (the step
         # of pull after a separation, a push closing fast): energy the bodies hold beyond the

@@ -52,6 +52,7 @@ from .record import (
     N_PAR,
     P_M1,
     P_M2,
+    P_RAM_M,
     RAM_ON,
     STEPPING,
     T0,
@@ -365,12 +366,12 @@ class RigidExact(ModelBase):
         Raises
         ------
         ParameterError
-            Without a ram (``ram_mass = 0``) or for a velocity that is not finite.
+            Without a ram (``ram_mass = 0``), or for a velocity that is not finite or whose
+            kinetic energy is not.
         """
         if not self.has_ram:
             raise ParameterError("strikes", "an increase", "none without a ram (ram_mass > 0)")
-        if not math.isfinite(velocity):
-            raise ParameterError("v_strike", velocity, "finite [m/s]")
+        self._check_strike(velocity, float(self._par[P_RAM_M]))
         self._take_log()                # room for the strike's piece
         self._strike(self._st, self._par, self._log, float(velocity))
 
