@@ -15,8 +15,8 @@ from .files import (
     write_parquet,
     write_records,
 )
-from .folder import LOCK, MANIFEST, OutputFolder, foreign
+from .folder import LOCK, MANIFEST, OutputFolder, foreign, listed
 
 __all__ = ["header", "markdown_table", "parquet_bytes", "read_csv", "read_parquet", "replaced",
            "save_png", "subplots", "with_units", "write_csv", "write_parquet", "write_records",
-           "OutputFolder", "MANIFEST", "LOCK", "foreign"]
+           "OutputFolder", "MANIFEST", "LOCK", "foreign", "listed"]

@@ -105,6 +105,16 @@ def foreign(folder, name: str) -> bool:
         return True
 
 
+def listed(folder, name: str) -> bool:
+    """Whether the manifest of ``folder`` names a file ``name``: one a pipeplug command wrote
+    there (read without opening the folder)."""
+    try:
+        held = json.loads((Path(folder) / MANIFEST).read_text())
+        return name in held.get("files", [])
+    except (OSError, ValueError, AttributeError):
+        return False
+
+
 class OutputFolder:
     """The output folder of one command run (see the module docstring).
 

@@ -39,6 +39,8 @@ def main(args: argparse.Namespace) -> int:
     from .engine import run_campaign
     from .runners import described
     from .store import read_folder
+    if args.workers is not None and args.workers < 1:    # a LocalCluster of 0 or -1 hangs
+        raise UserError(key="--workers", value=args.workers, allowed=">= 1")
     spec = load_sweep(args.sweep, args.limits)
     try:
         checked = check_sweep(spec)
@@ -83,9 +85,14 @@ def _default_figure(spec) -> str:
     return f"_{spec.report}.png"
 
 
+_PNG = b"\x89PNG\r\n\x1a\n"               # a PNG file's first bytes
+
+
 def _check_figure(figure: Path | None, out: Path, default: str) -> None:
     """Refuse up front a ``--figure`` path that cannot be written (a folder, a path under a
-    file, a read-only folder), or a default figure's name held by a file of someone else."""
+    file, a read-only folder) or must not be (not a .png, a file there that is not a PNG, or
+    another output folder's file), or a default figure's name held by a file of someone
+    else."""
     if figure is None:
         if io.foreign(out, default):
             raise UserError(key="--out", value=str(out),
@@ -95,6 +102,20 @@ def _check_figure(figure: Path | None, out: Path, default: str) -> None:
         return
     if figure.is_dir() or (figure.exists() and not figure.is_file()):
         raise UserError(key="--figure", value=str(figure), allowed="a PNG file's path")
+    if figure.suffix.lower() != ".png":
+        raise UserError(key="--figure", value=str(figure), allowed="a path ending in .png")
+    if figure.exists():
+        # a file there is overwritten only if it is a PNG and no other output's: a sweep's own
+        # data, a scene's figure or a file of the user's is never written over
+        with open(figure, "rb") as held:
+            if held.read(8) != _PNG:
+                raise UserError(key="--figure", value=str(figure),
+                                allowed="a free path or a PNG's (the file there is not a PNG, "
+                                        "and is not written over)")
+        if io.listed(figure.parent, figure.name) and figure.parent.resolve() != out.resolve():
+            raise UserError(key="--figure", value=str(figure),
+                            allowed=f"a path that is not another output's file (the "
+                                    f"{io.MANIFEST} beside it names it)")
     parent = next(p for p in figure.parents if p.exists())      # "." at least
     if not parent.is_dir():
         raise UserError(key="--figure", value=str(figure),

@@ -69,3 +69,42 @@ def test_a_figure_that_cannot_be_written_is_refused_before_the_run(pipeplug_cli,
               ["--out = 'b'", "_drivability.png", "not one _pipeplug.json names"])
     assert sorted(p.name for p in tmp_path.iterdir()) == ["b", "drives.toml"]  # no run began
     assert [p.name for p in (tmp_path / "b").iterdir()] == ["_drivability.png"]
+
+
+def test_a_figure_path_over_data_a_users_file_or_another_output_is_refused(pipeplug_cli,
+                                                                          tmp_path):
+    """--figure over the sweep's own Parquet part, over a user's text file or over a scene's
+    figure (named in its folder's manifest) wrote a PNG there, exit 0: the campaign's data was
+    lost, its next run ended in "internal error: ArrowInvalid". Now each is one line, exit 2,
+    and nothing is written; a PNG of the user's own at a free path is still the figure."""
+    (tmp_path / "drives.toml").write_text(DRIVES)
+    pipeplug_cli("sweep", "drives.toml", "--out", "d", "--workers", 1, "--no-progress")
+    part = next((tmp_path / "d").glob("*.parquet"))
+    data = part.read_bytes()
+    (tmp_path / "notes.txt").write_text("mine")
+    (tmp_path / "scene").mkdir()
+    (tmp_path / "scene" / "fig.png").write_bytes(b"\x89PNG\r\n\x1a\n a scene's")
+    (tmp_path / "scene" / "_pipeplug.json").write_text(json.dumps(
+        {"command": "scene", "files": ["fig.png"]}))
+    for figure, words in ((part, ["a path ending in .png"]),
+                          (tmp_path / "notes.txt", ["a path ending in .png"]),
+                          (tmp_path / "scene" / "fig.png", ["another output's file"])):
+        _one_line(pipeplug_cli("sweep", "drives.toml", "--out", "d", "--figure", figure,
+                               "--workers", 1, check=False), [f"--figure = '{figure}'", *words])
+    (tmp_path / "old.png").write_text("not a PNG")
+    _one_line(pipeplug_cli("sweep", "drives.toml", "--out", "d", "--figure", "old.png",
+                           check=False), ["--figure = 'old.png'", "not a PNG"])
+    assert part.read_bytes() == data and (tmp_path / "notes.txt").read_text() == "mine"
+    assert (tmp_path / "scene" / "fig.png").read_bytes().endswith(b"a scene's")
+    proc = pipeplug_cli("sweep", "drives.toml", "--out", "d", "--figure", "mine.png",
+                        "--workers", 1, "--no-progress")
+    assert (tmp_path / "mine.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n", proc.stdout
+
+
+def test_a_worker_count_below_one_is_refused(pipeplug_cli, tmp_path):
+    """--workers -1 hung with no output (a LocalCluster of no worker), its folder made."""
+    (tmp_path / "drives.toml").write_text(DRIVES)
+    for workers in (0, -1):
+        _one_line(pipeplug_cli("sweep", "drives.toml", "--out", "w", "--workers", workers,
+                               check=False), [f"--workers = {workers}", ">= 1"])
+    assert not (tmp_path / "w").exists()
