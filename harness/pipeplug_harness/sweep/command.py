@@ -44,6 +44,8 @@ def main(args: argparse.Namespace) -> int:
     spec = load_sweep(args.sweep, args.limits)
     try:
         checked = check_sweep(spec)
+        if spec.report != "none":                  # before the run, not after it
+            importlib.import_module(_REPORT_MODULES[spec.report]).check_applies(spec)
     except UserError as exc:
         raise exc.in_file(args.sweep) from None
     out = Path(args.out or Path("out/sweeps") / spec.name)

@@ -19,6 +19,7 @@ import numpy as np
 
 from pipeplug.params import Params
 from pipeplug_harness import io
+from pipeplug_harness.errors import UserError
 from pipeplug_harness.paper import RIGID_PARAMETERS
 from pipeplug_references import closed_form as cf
 
@@ -43,7 +44,14 @@ def _case(spec, tau1: float, tau2: float) -> cf.Case:
     return cf.Case(**given, tau1=tau1, tau2=tau2, Q0=blows["amplitude"], t0=blows["duration"])
 
 
-def _check_applies(spec) -> None:
+def check_applies(spec) -> None:
+    """Refuse, before the run, a sweep this report does not apply to.
+
+    Raises
+    ------
+    UserError
+        Naming ``report = "domains"`` and what it needs.
+    """
     base = spec.base
     names = {d.name for d in spec.dims}
     problems = []
@@ -56,7 +64,7 @@ def _check_applies(spec) -> None:
     if spec.sampling != "grid" or names != {"tau1", "tau2"}:
         problems.append("a [grid] over tau1 and tau2 only")
     if problems:
-        raise ValueError("the domains report needs " + "; ".join(problems))
+        raise UserError(key="report", value="domains", allowed="a sweep of " + "; ".join(problems))
 
 
 def on_boundary(case: cf.Case) -> bool:
@@ -81,7 +89,7 @@ def classify(spec, table) -> list[dict]:
 
 def report(spec, table, figure: Path) -> str:
     """Classify, list the disagreements, draw the map; the summary text."""
-    _check_applies(spec)
+    check_applies(spec)
     rows = classify(spec, table)
     case = _case(spec, 0.0, 0.0)
     agree = [r for r in rows if r["seen"] == r["expected"]]

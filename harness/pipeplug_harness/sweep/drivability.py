@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from pipeplug_harness import io
+from pipeplug_harness.errors import UserError
 
 __all__ = ["summarise", "report", "plot_blows"]
 
@@ -61,10 +62,22 @@ def _quantile_range(ordered: np.ndarray, q: float) -> tuple[float, float]:
     return float(ordered[lo]), float(ordered[hi])
 
 
+def check_applies(spec) -> None:
+    """Refuse, before the run, a sweep this report does not apply to: one of blows.
+
+    Raises
+    ------
+    UserError
+        Naming ``report = "drivability"`` and what it needs.
+    """
+    if spec.kind != "drive":
+        raise UserError(key="report", value="drivability", allowed='a sweep of drives (kind = '
+                                                                 '"drive")')
+
+
 def report(spec, table, figure: Path) -> str:
     """The summary text; draws the distribution of blows to drive."""
-    if spec.kind != "drive":
-        raise ValueError('the drivability report needs kind = "drive"')
+    check_applies(spec)
     s = summarise(table, [d.name for d in spec.dims][:2])
     n = s["n"]
     lines = [f"drivability: {n} drives ({', '.join(_described(d) for d in spec.dims)})"]

@@ -108,3 +108,16 @@ def test_a_worker_count_below_one_is_refused(pipeplug_cli, tmp_path):
         _one_line(pipeplug_cli("sweep", "drives.toml", "--out", "w", "--workers", workers,
                                check=False), [f"--workers = {workers}", ">= 1"])
     assert not (tmp_path / "w").exists()
+
+
+def test_a_report_that_does_not_fit_the_sweep_is_refused_before_the_run(pipeplug_cli,
+                                                                        tmp_path):
+    """report = "domains" on drives ran every case, then ended in "internal error:
+    ValueError", exit 1, with the results on disk and a figure never drawn."""
+    (tmp_path / "domains.toml").write_text(DRIVES.replace('report = "drivability"',
+                                                          'report = "domains"'))
+    _one_line(pipeplug_cli("sweep", "domains.toml", "--out", "r", "--workers", 1,
+                           check=False),
+              ["report = 'domains'", 'single blows (kind = "blow", count = 1)',
+               "a [grid] over tau1 and tau2 only", "domains.toml"])
+    assert not (tmp_path / "r").exists()
