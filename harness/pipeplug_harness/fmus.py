@@ -19,6 +19,7 @@ import sys
 import tempfile
 import zipfile
 from pathlib import Path
+from xml.etree import ElementTree
 
 from pipeplug_harness.errors import RunFailed, UserError
 
@@ -127,27 +128,41 @@ def find_fmu(given=None, name: str = "PipePlug.fmu", fmi: int = 2) -> Path:
     if fmi not in FMI_VERSIONS:
         raise UserError(key="--fmi", value=fmi, allowed=", ".join(map(str, FMI_VERSIONS)))
     if given is not None:
-        return _an_fmu(Path(given))
+        return _an_fmu(Path(given), Path(name).stem)
     return (cached_build().parent / _FMI_FOLDER[fmi] / name).resolve()
 
 
-def _an_fmu(path: Path) -> Path:
-    """``path`` if it is an FMU (a zip, or an unpacked folder, holding modelDescription.xml),
-    checked before any run: a command given another file refuses it at once, never counts it
-    as a failing case of its run."""
+def _an_fmu(path: Path, model: str) -> Path:
+    """``path`` if it is an FMU of ``model`` (a zip, or an unpacked folder, holding
+    modelDescription.xml with that modelName), checked before any run: a command given another
+    file, or another FMU (Hammer's for PipePlug's), refuses it at once, never counts it as a
+    failing case of its run."""
     try:
         if path.is_dir():
-            held = (path / "modelDescription.xml").is_file()
+            inside = path / "modelDescription.xml"
+            description = inside.read_bytes() if inside.is_file() else None
         else:
             with zipfile.ZipFile(path) as archive:
-                held = "modelDescription.xml" in archive.namelist()
+                description = archive.read("modelDescription.xml")
     except FileNotFoundError:
         raise UserError("no such FMU file or folder", file=path) from None
     except OSError as exc:                         # a folder or file the user may not read
         raise UserError(f"cannot be read ({exc.strerror})", file=path) from None
-    except zipfile.BadZipFile:
-        held = False
-    if not held:
+    except (zipfile.BadZipFile, KeyError):
+        description = None
+    if description is None:
         raise UserError("not an FMU: allowed: an FMU file (a zip holding modelDescription.xml) "
                         "or its unpacked folder", file=path)
+    found = _model_name(description)
+    if found != model:
+        raise UserError(f"is the FMU of modelName = {found!r}; allowed: a {model} FMU",
+                        file=path)
     return path
+
+
+def _model_name(description: bytes) -> str | None:
+    """The modelName of a modelDescription.xml's text (None where it has none, or is not XML)."""
+    try:
+        return ElementTree.fromstring(description).get("modelName")
+    except ElementTree.ParseError:
+        return None

@@ -67,6 +67,19 @@ def test_every_mistake_is_one_line_with_exit_code_2(tmp_path, args, words):
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]      # nothing written
 
 
+@pytest.mark.parametrize("command", [("validate",), ("fuzz", "--cases", "5"),
+                                     ("scene", "s.toml")])
+def test_another_fmu_than_pipeplugs_is_refused_up_front(tmp_path, hammer_file, hammer_dir,
+                                                         command):
+    """Hammer.fmu as --fmu: validate ended in "internal error: ValueError: no field of name
+    v_pipe", fuzz counted its cases as failures and saved them (exit 1)."""
+    (tmp_path / "s.toml").write_text(SCENE)
+    for fmu in (hammer_file, hammer_dir):
+        _one_line(_run(tmp_path, *command, "--fmu", fmu), 2,
+                  [str(fmu), "modelName = 'Hammer'; allowed: a PipePlug FMU"])
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["s.toml"]      # nothing written
+
+
 def test_an_output_folder_that_is_a_file_or_someone_elses_is_refused(tmp_path, fmu_file):
     (tmp_path / "s.toml").write_text(SCENE)
     (tmp_path / "afile").write_text("mine")
