@@ -198,6 +198,9 @@ def sweep_spec(name: str, raw: dict, limits: Limits | None = None) -> SweepSpec:
     file_kind, nested, default_chunk = KINDS[kind]
     _fixed_and_varied(raw, file_kind.sections, sampling, varied)
     base = files.checked(raw, file_kind, varied=tuple(varied))
+    choice = base.get("elastic")
+    if isinstance(choice, bool):        # the file chose the model: the other's keys are slips
+        files.unused_model_keys(choice, dict(base, **varied), choice)
     head = base.pop("sweep")
     report = head["report"]
     units = {k: file_kind.sections[allowed[k]][k].unit for k in varied}

@@ -35,7 +35,8 @@ def _per_case(spec):
 @pytest.mark.parametrize("raw, miss", [
     ({"grid": {"tau1": [1.0]}}, None),
     ({"grid": {"tau1": [1.0], "amplitude": [1e4, 2e4], "duration": [0.01, 0.1],
-               "period": [1.0], "E1": [1e9], "dx": [0.3]}, "soil": {"contact_growth": True},
+               "period": [1.0], "E1": [1e9], "rho1": [7800.0]},   # (dx: refused, rigid)
+      "soil": {"contact_growth": True},
       "model": {"elastic": False, "solver": "exact"}, "output": {"stop_time": 5.0}}, None),
     ({"grid": {"tau1": [1.0]}, "output": {"modes": True}}, "mode sequence"),
     ({"grid": {"tau1": [1.0]}, "sweep": {"report": "domains"}}, "mode sequence"),

@@ -54,6 +54,13 @@ def _spec(**raw):
     ({"random": {"tau1": {"dist": "uniform", "low": 1.0, "high": 2.0}},
       "sweep": {"samples": 10 ** 18}}, ["samples = 1000000000000000000 is outside"]),
     ({"grid": {"tau1": [1.0]}, "pipe": {"R1": 292.3}}, ["R1 = 292.3 m is outside"]),
+    # a key the chosen model does not read, fixed or varied (ran, ignored, where a scene refuses)
+    ({"grid": {"tau1": [1.0]}, "model": {"elastic": False, "dx": 0.01}},
+     ["[model] dx = 0.01", "none with elastic = false"]),
+    ({"grid": {"tau1": [1.0], "dx": [0.01, 0.02]}, "model": {"elastic": False}},
+     ["[model] dx = [0.01, 0.02]", "none with elastic = false"]),
+    ({"grid": {"tau1": [1.0]}, "model": {"elastic": True, "solver": "fd"}},
+     ["[model] solver = 'fd'", "none with elastic = true"]),
 ])
 def test_unknown_keys_and_values_name_the_allowed_ones(raw, words):
     with pytest.raises(UserError) as err:
