@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import json
 import math
+import shlex
 from collections import Counter
 from pathlib import Path
 
@@ -120,7 +121,9 @@ def save_failure(result: CaseResult, case: Case, folder, paths: tuple) -> Path:
                     "tolerance": CHECKS[c].tolerance} for c, s in result.failed],
         "errors": [{"check": c, "subject": s, "message": m}
                    for (c, s), m in result.errors.items()],
-        "replay": f"pipeplug fuzz --replay {path.name}",
+        # the file's whole path: the command works from any folder (its name alone did only
+        # from the failures folder)
+        "replay": f"pipeplug fuzz --replay {shlex.quote(str(Path(path).resolve()))}",
         "case": _TO_JSON[getattr(case, "kind", "rigid")](case),
     }
     path.write_text(json.dumps(data, indent=1, default=_plain))

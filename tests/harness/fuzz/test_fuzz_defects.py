@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import json
 import math
+import shlex
 
 import pytest
 
@@ -126,6 +127,9 @@ def test_a_saved_failure_replays(monkeypatch, tmp_path, capsys):
     assert summary.failures == len(files) >= 1
     data = json.loads(files[0].read_text())
     assert data["paths"] == ["defect"] and data["failed"][0]["check"] == "reference"
+    # the stored command names the file by its whole path (its name alone failed elsewhere)
+    assert shlex.split(data["replay"]) == ["pipeplug", "fuzz", "--replay",
+                                           str(files[0].resolve())]
     assert replay(str(files[0])) == 1                       # on the file's (defective) path
     assert "FAILED" in capsys.readouterr().out
     assert replay(str(files[0]), Setup(("python",)), paths_given=True) == 0   # the core's
