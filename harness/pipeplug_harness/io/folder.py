@@ -95,19 +95,12 @@ def _remove_if_empty(root: Path, folder: Path) -> None:
 def foreign(folder, name: str) -> bool:
     """Whether ``folder`` holds a file ``name`` that its manifest does not name (one a command
     must not write over), read without opening the folder: for a check before a run starts."""
-    folder = Path(folder)
-    if not os.path.lexists(folder / name):
-        return False
-    try:
-        held = json.loads((folder / MANIFEST).read_text())
-        return name not in held.get("files", [])
-    except (OSError, ValueError, AttributeError):
-        return True
+    return os.path.lexists(Path(folder) / name) and not listed(folder, name)
 
 
 def listed(folder, name: str) -> bool:
     """Whether the manifest of ``folder`` names a file ``name``: one a pipeplug command wrote
-    there (read without opening the folder)."""
+    there (read without opening the folder; an unreadable manifest names none)."""
     try:
         held = json.loads((Path(folder) / MANIFEST).read_text())
         return name in held.get("files", [])
